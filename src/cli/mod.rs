@@ -1,0 +1,204 @@
+//! The `kbc` command line: argument parsing, reading files, printing results.
+//!
+//! This module and `src/lsp` are the only places that do IO. Each subcommand reads its inputs
+//! into a [`SourceDb`], calls the library (`crate::driver`), and prints. Exit status: 0 when
+//! the input is fine (warnings allowed), 1 when it has errors, 2 for usage errors (clap's
+//! default for bad arguments).
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use crate::diag::{Diagnostic, Diagnostics, codes, render};
+use crate::driver;
+use crate::ir::hir;
+use crate::passes::load::{LoadedText, SourceLoader};
+use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
+use crate::syntax::printer;
+
+/// Compile robot knowledge bases into behaviour trees.
+#[derive(Parser)]
+#[command(name = "kbc", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    /// When to use colour in diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorWhen::Auto, global = true)]
+    color: ColorWhen,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check KB and goal files and report every problem found.
+    ///
+    /// Reads the files (and the files they include), resolves them into a knowledge base, and
+    /// reports syntax errors, structural mistakes in actions and problems, unknown predicates
+    /// and arities, unbound effect variables and singleton variables. When no file declares
+    /// an action schema, the standard blocks world (std/blocks.pl) is the domain.
+    Check(CheckArgs),
+    /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
+    Explain {
+        /// The code, such as E0102 or W0001.
+        code: String,
+    },
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// KB and goal files, checked together.
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<PathBuf>,
+    /// How to print diagnostics: for people, or one JSON object per line on stdout.
+    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+    /// Print the intermediate representation after this pass on stdout.
+    #[arg(long, value_enum, value_name = "PASS")]
+    dump_after: Option<DumpPass>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ColorWhen {
+    /// Colour when stderr is a terminal and NO_COLOR is not set.
+    Auto,
+    Always,
+    Never,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MessageFormat {
+    Human,
+    Json,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum DumpPass {
+    /// The syntax tree of every file read.
+    Parse,
+    /// The resolved knowledge base.
+    Hir,
+}
+
+/// Runs the command line and returns the process's exit status.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let color = match cli.color {
+        ColorWhen::Always => true,
+        ColorWhen::Never => false,
+        ColorWhen::Auto => std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty()),
+    };
+    match cli.command {
+        Command::Check(args) => check(args, color),
+        Command::Explain { code } => explain(&code),
+    }
+}
+
+/// Reads included files from disk.
+pub struct FsLoader;
+
+impl SourceLoader for FsLoader {
+    fn load(&mut self, path: &Path) -> Result<LoadedText, String> {
+        let canonical = std::fs::canonicalize(path).map_err(|e| io_reason(&e))?;
+        let text = read_text(&canonical)?;
+        Ok(LoadedText { canonical, text })
+    }
+}
+
+fn io_reason(error: &std::io::Error) -> String {
+    // "No such file or directory (os error 2)" reads better without the errno.
+    let text = error.to_string();
+    match text.find(" (os error") {
+        Some(at) => text[..at].to_string(),
+        None => text,
+    }
+}
+
+fn read_text(path: &Path) -> Result<String, String> {
+    let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
+    if bytes.len() > MAX_FILE_LEN {
+        return Err("the file is larger than 4 GiB".to_string());
+    }
+    String::from_utf8(bytes).map_err(|e| format!("not valid UTF-8 (byte {})", e.utf8_error().valid_up_to()))
+}
+
+/// Reads the command line's files into `db`; unreadable ones become diagnostics.
+fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics) -> Vec<FileId> {
+    let mut roots = Vec::new();
+    for path in paths {
+        match read_text(path) {
+            Ok(text) => {
+                let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+                roots.push(db.add(path.display().to_string(), Some(canonical), text));
+            }
+            Err(reason) => {
+                diags.push(Diagnostic::error(
+                    codes::UNREADABLE_FILE,
+                    format!("cannot read `{}`: {reason}", path.display()),
+                ));
+            }
+        }
+    }
+    roots
+}
+
+fn check(args: CheckArgs, color: bool) -> ExitCode {
+    let mut db = SourceDb::new();
+    let mut read_errors = Diagnostics::new();
+    let roots = read_roots(&args.files, &mut db, &mut read_errors);
+    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
+    let mut diagnostics = read_errors;
+    diagnostics.extend(frontend.diagnostics);
+    if let Some(pass) = args.dump_after {
+        let mut out = std::io::stdout().lock();
+        let text = match pass {
+            DumpPass::Parse => frontend
+                .loaded
+                .files
+                .iter()
+                .map(|ast| {
+                    format!("% {}\n{}", db.file(ast.file).name(), printer::print_source(&frontend.interner, ast))
+                })
+                .collect::<String>(),
+            DumpPass::Hir => hir::print(&frontend.interner, &frontend.kb),
+        };
+        let _ = out.write_all(text.as_bytes());
+    }
+    report(&db, &diagnostics, args.message_format, color);
+    if diagnostics.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }
+}
+
+fn report(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) {
+    match format {
+        MessageFormat::Human => {
+            if render::emit_to_terminal(db, diagnostics, color).is_err() {
+                // stderr is gone (a closed pipe); there is nowhere left to report to.
+            }
+        }
+        MessageFormat::Json => {
+            let mut out = std::io::stdout().lock();
+            for diagnostic in diagnostics.iter() {
+                if writeln!(out, "{}", render::to_json(db, diagnostic)).is_err() {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+fn explain(code: &str) -> ExitCode {
+    let normalized =
+        if code.chars().next().is_some_and(|c| c.is_ascii_digit()) { format!("E{code}") } else { code.to_string() };
+    match codes::lookup(&normalized) {
+        Some(info) => {
+            let mut out = std::io::stdout().lock();
+            let _ = out.write_all(info.explanation.as_bytes());
+            ExitCode::SUCCESS
+        }
+        None => {
+            eprintln!("error: `{code}` is not a kbc diagnostic code");
+            eprintln!("note: codes look like E0102 or W0001; `kbc check` prints them in brackets");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! The registry of diagnostic codes.
+//!
+//! Each code is declared once here with a one-line title; its explanation is the page
+//! `docs/diagnostics/CODE.md`, embedded in the binary so `kbc explain CODE` works anywhere.
+//! A missing page is a compile error. `tests/diagnostic_registry.rs` checks the other
+//! direction (every page is registered) and that every code has a UI test.
+//!
+//! Ranges: E01xx reading and syntax, E02xx structure, names and arities, E03xx planning,
+//! E04xx temporal, E05xx back end, Wxxxx warnings. Codes are never reused.
+
+use std::fmt;
+
+/// A stable diagnostic code such as `E0102`.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Code(&'static str);
+
+impl Code {
+    /// The code's text, e.g. `"E0102"`.
+    pub fn as_str(self) -> &'static str {
+        self.0
+    }
+
+    /// The registry entry for this code.
+    pub fn info(self) -> &'static CodeInfo {
+        ALL.iter().find(|info| info.code == self.0).expect("every Code constant is registered")
+    }
+}
+
+impl fmt::Debug for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.0)
+    }
+}
+
+impl fmt::Display for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.0)
+    }
+}
+
+impl serde::Serialize for Code {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.0)
+    }
+}
+
+/// A code's registry entry.
+#[derive(Debug)]
+pub struct CodeInfo {
+    /// The code, e.g. `"E0102"`.
+    pub code: &'static str,
+    /// A one-line summary.
+    pub title: &'static str,
+    /// The Markdown page from docs/diagnostics/.
+    pub explanation: &'static str,
+}
+
+/// Looks a code up by its text, accepting any letter case (`e0102`).
+pub fn lookup(code: &str) -> Option<&'static CodeInfo> {
+    ALL.iter().find(|info| info.code.eq_ignore_ascii_case(code))
+}
+
+macro_rules! codes {
+    ($($name:ident = $code:literal : $title:literal;)*) => {
+        $(
+            #[doc = $title]
+            pub const $name: Code = Code($code);
+        )*
+        /// Every registered code, in numeric order.
+        pub const ALL: &[CodeInfo] = &[
+            $(CodeInfo {
+                code: $code,
+                title: $title,
+                explanation: include_str!(concat!("../../docs/diagnostics/", $code, ".md")),
+            },)*
+        ];
+    };
+}
+
+codes! {
+    // Reading and syntax.
+    UNEXPECTED_TOKEN = "E0101": "unexpected token";
+    MISSING_PERIOD = "E0102": "missing `.` at the end of a clause";
+    UNCLOSED_DELIMITER = "E0103": "unclosed delimiter";
+    MISMATCHED_DELIMITER = "E0104": "mismatched or unexpected closing delimiter";
+    UNTERMINATED_QUOTED = "E0105": "unterminated quoted atom or string";
+    UNTERMINATED_COMMENT = "E0106": "unterminated block comment";
+    NOT_AN_OPERATOR = "E0107": "an operator from another language (`!=`, `<=`, `&&`)";
+    SPACE_BEFORE_PAREN = "E0108": "space between a functor and its `(`";
+    MISSING_COMMA = "E0109": "missing `,` between list elements, arguments or goals";
+    UNSUPPORTED_OPERATOR = "E0110": "user-defined or unsupported operator";
+    UNEXPECTED_CHARACTER = "E0111": "unexpected character";
+    BAD_NUMBER = "E0112": "number literal out of range";
+    BAD_ESCAPE = "E0113": "unknown escape sequence";
+    VARIABLE_FUNCTOR = "E0114": "variable used as a predicate name";
+    UNREADABLE_FILE = "E0120": "file cannot be read";
+    LOAD_CYCLE = "E0121": "`include` or `ensure_loaded` cycle";
+    BAD_LOAD_DIRECTIVE = "E0122": "malformed `include` or `ensure_loaded`";
+    // Structure, names and arities.
+    ACTION_ARITY = "E0201": "`action` or `ll_action` with the wrong number of arguments";
+    SLOT_NOT_LIST = "E0202": "an action slot that is not a list";
+    BAD_EFFECT = "E0203": "an effect other than `add(L)` or `del(L)`";
+    UNPAIRED_DURATIVE = "E0204": "a `_start` without its `_end`, or the reverse";
+    DURATIVE_ARITY = "E0205": "`_start` and `_end` with different arities";
+    DUPLICATE_ACTION = "E0206": "duplicate action schema";
+    UNKNOWN_MAPPED_ACTION = "E0207": "a mapping to an unknown action";
+    INCOMPLETE_PROBLEM = "E0208": "a problem without an init or a goal state";
+    NON_GROUND_INIT = "E0209": "an init fact that is not ground";
+    UNKNOWN_PREDICATE = "E0210": "unknown predicate";
+    WRONG_ARITY = "E0211": "a predicate used with a different arity";
+    UNREACHABLE_GOAL = "E0212": "a goal literal nothing can make true";
+    UNBOUND_EFFECT_VARIABLE = "E0213": "an effect variable nothing binds";
+    NOT_CALLABLE = "E0214": "a literal or action name that is not an atom or compound";
+    BAD_PROBLEM = "E0215": "a malformed problem";
+    BAD_DURATION = "E0216": "a malformed `duration/3`";
+    BAD_DECLARATION = "E0217": "a malformed declaration: `dynamic`, `discontiguous`, `mapping/2`, `resources/1`";
+    BAD_CLAUSE_HEAD = "E0218": "a clause head that cannot be defined";
+    // Warnings.
+    SINGLETON_VARIABLE = "W0001": "singleton variable";
+    NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";
+    IGNORED_DIRECTIVE = "W0003": "directive ignored";
+    MARKED_SINGLETON_REUSED = "W0004": "a `_`-prefixed variable used more than once";
+    DISCONTIGUOUS = "W0005": "clauses of a predicate not together";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_are_unique_sorted_and_documented() {
+        for pair in ALL.windows(2) {
+            assert!(
+                pair[0].code < pair[1].code || pair[0].code.starts_with('E') && pair[1].code.starts_with('W'),
+                "{} and {} out of order",
+                pair[0].code,
+                pair[1].code
+            );
+        }
+        for info in ALL {
+            assert!(
+                info.explanation.starts_with(&format!("# {}", info.code)),
+                "{} page must start with its code",
+                info.code
+            );
+        }
+    }
+
+    #[test]
+    fn lookup_ignores_case() {
+        assert_eq!(lookup("e0102").map(|i| i.code), Some("E0102"));
+        assert!(lookup("E9999").is_none());
+    }
+}

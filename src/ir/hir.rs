@@ -1,0 +1,709 @@
+//! The HIR: a knowledge base resolved into the paper's model.
+//!
+//! Lowering (`passes::lower`) sorts every clause of the input into what it means: action
+//! schemas (`action/6`, `ll_action/6`), refinements (`mapping/2`), resource declarations,
+//! problems (`init_state`/`goal_state` pairs and `go/2,4,5` tests), declarations, and the
+//! static program (facts and rules, `duration/3` included). Every item keeps its span.
+//!
+//! Terms here are plain Prolog terms with clause-local variables: each clause-like item owns a
+//! [`VarTable`], and [`VarId`]s are numbered by first occurrence, so two items that are the
+//! same up to variable renaming have equal terms. Lists are `'[|]'/2` cells ending in `[]`.
+//!
+//! The module also holds the HIR's text form ([`print`]) and its verifier ([`verify`]).
+
+use std::fmt::Write;
+
+use crate::intern::{Interner, Symbol, sym};
+use crate::source::{FileId, Span};
+use crate::syntax::printer::{TermView, View, end_clause, write_term};
+
+/// A clause-local variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct VarId(pub u32);
+
+/// A term.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Term {
+    /// A variable of the enclosing item's [`VarTable`].
+    Var(VarId),
+    /// An atom.
+    Atom(Symbol),
+    /// An integer.
+    Int(i64),
+    /// A float.
+    Float(f64),
+    /// A string.
+    Str(Symbol),
+    /// A compound term with at least one argument, or zero for `f()`.
+    Compound(Symbol, Box<[Term]>),
+}
+
+impl Term {
+    /// The name and arity of a callable term.
+    pub fn callable(&self) -> Option<(Symbol, usize)> {
+        match self {
+            Term::Atom(s) => Some((*s, 0)),
+            Term::Compound(s, args) => Some((*s, args.len())),
+            _ => None,
+        }
+    }
+
+    /// The arguments of a compound; empty for anything else.
+    pub fn args(&self) -> &[Term] {
+        match self {
+            Term::Compound(_, args) => args,
+            _ => &[],
+        }
+    }
+
+    /// True if the term has no variables.
+    pub fn is_ground(&self) -> bool {
+        match self {
+            Term::Var(_) => false,
+            Term::Compound(_, args) => args.iter().all(Term::is_ground),
+            _ => true,
+        }
+    }
+
+    /// Calls `f` on each variable occurrence, left to right.
+    pub fn for_each_var(&self, f: &mut impl FnMut(VarId)) {
+        match self {
+            Term::Var(v) => f(*v),
+            Term::Compound(_, args) => args.iter().for_each(|a| a.for_each_var(f)),
+            _ => {}
+        }
+    }
+
+    /// The elements of a proper list, or `None` if the term is not one.
+    pub fn list_items(&self) -> Option<Vec<&Term>> {
+        let mut items = Vec::new();
+        let mut rest = self;
+        loop {
+            match rest {
+                Term::Atom(s) if *s == sym::NIL => return Some(items),
+                Term::Compound(s, args) if *s == sym::CONS && args.len() == 2 => {
+                    items.push(&args[0]);
+                    rest = &args[1];
+                }
+                _ => return None,
+            }
+        }
+    }
+}
+
+/// One variable of a clause-like item.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VarInfo {
+    /// The name as written (`_` for anonymous variables).
+    pub name: Symbol,
+    /// Every occurrence, in source order.
+    pub occurrences: Vec<Span>,
+}
+
+/// The variables of one clause-like item, indexed by [`VarId`].
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct VarTable {
+    /// The variables, in order of first occurrence.
+    pub vars: Vec<VarInfo>,
+}
+
+impl VarTable {
+    /// The variable behind `id`.
+    pub fn get(&self, id: VarId) -> &VarInfo {
+        &self.vars[id.0 as usize]
+    }
+
+    /// The number of variables.
+    pub fn len(&self) -> usize {
+        self.vars.len()
+    }
+
+    /// True when the item has no variables.
+    pub fn is_empty(&self) -> bool {
+        self.vars.is_empty()
+    }
+}
+
+/// A literal (an atom or compound used as a condition, fact or effect) with its spans.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Literal {
+    /// The term; always callable.
+    pub term: Term,
+    /// The whole literal.
+    pub span: Span,
+    /// The predicate name.
+    pub name_span: Span,
+}
+
+impl Literal {
+    /// The predicate name.
+    pub fn name(&self) -> Symbol {
+        self.term.callable().map_or(sym::ANON, |(n, _)| n)
+    }
+
+    /// The number of arguments.
+    pub fn arity(&self) -> usize {
+        self.term.args().len()
+    }
+}
+
+/// A goal of a rule body or an OnKB slot.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Goal {
+    /// A call to a predicate or built-in.
+    Call(Literal),
+    /// `A, B, ...`.
+    And(Vec<Goal>),
+    /// `A ; B`.
+    Or(Box<Goal>, Box<Goal>),
+    /// `C -> T` or `C -> T ; E`.
+    IfThenElse(Box<Goal>, Box<Goal>, Option<Box<Goal>>),
+    /// `\+ G`.
+    Not(Box<Goal>),
+}
+
+impl Goal {
+    /// Calls `f` on every literal called anywhere in the goal.
+    pub fn for_each_call<'a>(&'a self, f: &mut impl FnMut(&'a Literal)) {
+        match self {
+            Goal::Call(literal) => f(literal),
+            Goal::And(goals) => goals.iter().for_each(|g| g.for_each_call(f)),
+            Goal::Or(a, b) => {
+                a.for_each_call(f);
+                b.for_each_call(f);
+            }
+            Goal::IfThenElse(c, t, e) => {
+                c.for_each_call(f);
+                t.for_each_call(f);
+                if let Some(e) = e {
+                    e.for_each_call(f);
+                }
+            }
+            Goal::Not(g) => g.for_each_call(f),
+        }
+    }
+}
+
+/// A static clause: a fact (no body) or a rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clause {
+    /// The head.
+    pub head: Literal,
+    /// The body of a rule (boxed: most clauses of a large KB are facts).
+    pub body: Option<Box<Goal>>,
+    /// The clause's variables.
+    pub vars: VarTable,
+    /// The whole clause.
+    pub span: Span,
+}
+
+/// Whether an action is a high-level `action/6` or an arm-level `ll_action/6`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Level {
+    /// `action/6`.
+    High,
+    /// `ll_action/6`.
+    Low,
+}
+
+/// Which part of a durative action a schema is, from its name's suffix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Snap {
+    /// `X_start`: the start of durative action `X`.
+    Start,
+    /// `X_end`: the end of durative action `X`.
+    End,
+    /// No suffix: an instantaneous action.
+    Instant,
+}
+
+/// `add(L)` or `del(L)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum EffectKind {
+    /// Adds the literal to the state.
+    Add,
+    /// Removes the literal from the state.
+    Del,
+}
+
+/// One effect of an action.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Effect {
+    /// Add or delete.
+    pub kind: EffectKind,
+    /// The literal added or deleted.
+    pub literal: Literal,
+    /// The whole `add(...)` / `del(...)` term.
+    pub span: Span,
+}
+
+/// The six slots of an action, by position (for spans and messages).
+pub const SLOT_NAMES: [&str; 6] = ["Name", "Valid", "Invalid", "InvalidAtEnd", "OnKB", "Effects"];
+
+/// An action schema: `action(Name, Valid, Invalid, InvalidAtEnd, OnKB, Effects)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Action {
+    /// `action/6` or `ll_action/6`.
+    pub level: Level,
+    /// The name term, e.g. `grip_start(A, B)`.
+    pub name: Literal,
+    /// The durative action's name without `_start`/`_end` (the name itself for instants).
+    pub base: Symbol,
+    /// Start, end or instantaneous.
+    pub snap: Snap,
+    /// Literals that must unify with state facts.
+    pub valid: Vec<Literal>,
+    /// Literals no state fact may unify with.
+    pub invalid: Vec<Literal>,
+    /// Literals no goal literal may unify with.
+    pub invalid_at_end: Vec<Literal>,
+    /// Goals proven against the KB.
+    pub on_kb: Vec<Goal>,
+    /// Effects, in order.
+    pub effects: Vec<Effect>,
+    /// The schema's variables.
+    pub vars: VarTable,
+    /// The whole clause.
+    pub span: Span,
+    /// The span of each of the six arguments.
+    pub slots: [Span; 6],
+}
+
+/// `mapping(HighLevelStart, [ArmLevel, ...])`: refines a high-level start into arm-level steps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mapping {
+    /// The high-level action's start, e.g. `grip_start(A, B)`.
+    pub high: Literal,
+    /// The arm-level actions, in order.
+    pub steps: Vec<Literal>,
+    /// The mapping's variables.
+    pub vars: VarTable,
+    /// The whole clause.
+    pub span: Span,
+}
+
+/// `resources(Template)`: renewable resources, the facts matching the template.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resource {
+    /// The template, e.g. `agent(_)`.
+    pub template: Literal,
+    /// Its variables.
+    pub vars: VarTable,
+    /// The whole clause.
+    pub span: Span,
+}
+
+/// Where a problem came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProblemForm {
+    /// `Name :- go(Init, Goal)` with this arity of `go` (2, 4 or 5).
+    Go(u8),
+    /// `init_state([...])` with `goal_state([...])` in one file.
+    InitGoalState,
+}
+
+/// A planning problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    /// Its name: the test's name, or the file's stem for `init_state`/`goal_state`.
+    pub name: Symbol,
+    /// Where the name is written (or the `init_state` fact).
+    pub name_span: Span,
+    /// The initial state: ground facts.
+    pub init: Vec<Literal>,
+    /// The goal: literals that must unify with facts of the final state; may hold variables.
+    pub goal: Vec<Literal>,
+    /// The search depth limit the problem asks for (`go/5`).
+    pub max_depth: Option<u32>,
+    /// How it was written.
+    pub form: ProblemForm,
+    /// Variables of the goal (init facts are ground).
+    pub vars: VarTable,
+    /// The whole clause (or the `init_state` fact).
+    pub span: Span,
+}
+
+/// `:- dynamic P/N` or `:- discontiguous P/N`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeclarationKind {
+    /// `dynamic`.
+    Dynamic,
+    /// `discontiguous`.
+    Discontiguous,
+}
+
+/// A predicate declaration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Declaration {
+    /// Which declaration.
+    pub kind: DeclarationKind,
+    /// The predicate's name.
+    pub name: Symbol,
+    /// Its arity.
+    pub arity: usize,
+    /// The `P/N` term.
+    pub span: Span,
+}
+
+/// Where a clause head appeared, for checks that depend on source order (discontiguity).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeadSite {
+    /// The file.
+    pub file: FileId,
+    /// The head's predicate.
+    pub name: Symbol,
+    /// Its arity.
+    pub arity: usize,
+    /// The head's span.
+    pub span: Span,
+}
+
+/// A resolved knowledge base.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Kb {
+    /// The static program: facts and rules, in clause order.
+    pub clauses: Vec<Clause>,
+    /// Action schemas of both levels, in clause order.
+    pub actions: Vec<Action>,
+    /// Refinements.
+    pub mappings: Vec<Mapping>,
+    /// Resource declarations.
+    pub resources: Vec<Resource>,
+    /// Problems, in clause order.
+    pub problems: Vec<Problem>,
+    /// `dynamic` and `discontiguous` declarations.
+    pub declarations: Vec<Declaration>,
+    /// Every clause head in source order, including action and problem clauses.
+    pub head_sites: Vec<HeadSite>,
+    /// Predicates named anywhere in clauses that failed to parse; name checks treat them as
+    /// known so one syntax error does not cascade into "unknown predicate" errors.
+    pub recovered_names: Vec<(Symbol, usize)>,
+    /// True when the action schemas come from the standard library's blocks world.
+    pub uses_std_domain: bool,
+}
+
+impl Kb {
+    /// The problem named `name`.
+    pub fn problem(&self, name: Symbol) -> Option<&Problem> {
+        self.problems.iter().find(|p| p.name == name)
+    }
+
+    /// High-level action schemas.
+    pub fn high_level_actions(&self) -> impl Iterator<Item = &Action> {
+        self.actions.iter().filter(|a| a.level == Level::High)
+    }
+}
+
+/// Prints a term with its variables' source names (`_` becomes `_G<n>`).
+pub fn term_to_string(interner: &Interner, term: &Term, vars: &VarTable) -> String {
+    let mut out = String::new();
+    write_named(&mut out, interner, term, vars, 1200);
+    out
+}
+
+/// Writes a term with variable names at the given maximum priority.
+pub fn write_named(out: &mut String, interner: &Interner, term: &Term, vars: &VarTable, max_priority: u16) {
+    // The generic printer needs `&[T]` children of the same type, so build a named tree once.
+    let tree = NamedTree::build(term, vars, interner);
+    write_term(out, interner, &tree, max_priority);
+}
+
+/// A printable copy of a term with variable names resolved.
+enum NamedTree {
+    Leaf(Term, String),
+    Compound(Symbol, Vec<NamedTree>),
+}
+
+impl NamedTree {
+    fn build(term: &Term, vars: &VarTable, interner: &Interner) -> NamedTree {
+        match term {
+            Term::Compound(f, args) => {
+                NamedTree::Compound(*f, args.iter().map(|a| NamedTree::build(a, vars, interner)).collect())
+            }
+            Term::Var(id) => {
+                let name = vars.vars.get(id.0 as usize).map_or(sym::ANON, |v| v.name);
+                let text = interner.resolve(name);
+                let printed = if text == "_" { format!("_G{}", id.0) } else { text.to_string() };
+                NamedTree::Leaf(term.clone(), printed)
+            }
+            other => NamedTree::Leaf(other.clone(), String::new()),
+        }
+    }
+}
+
+impl TermView for NamedTree {
+    fn view<'a>(&'a self, _interner: &'a Interner) -> View<'a, Self> {
+        match self {
+            NamedTree::Compound(f, args) => View::Compound(*f, args),
+            NamedTree::Leaf(Term::Var(_), name) => View::Var(name.as_str().into()),
+            NamedTree::Leaf(Term::Atom(s), _) => View::Atom(*s),
+            NamedTree::Leaf(Term::Int(i), _) => View::Int(*i),
+            NamedTree::Leaf(Term::Float(f), _) => View::Float(*f),
+            NamedTree::Leaf(Term::Str(s), _) => View::Str(*s),
+            NamedTree::Leaf(Term::Compound(..), _) => View::Error,
+        }
+    }
+}
+
+fn write_goal(out: &mut String, interner: &Interner, goal: &Goal, vars: &VarTable) {
+    match goal {
+        Goal::Call(literal) => write_named(out, interner, &literal.term, vars, 999),
+        Goal::And(goals) => {
+            out.push('(');
+            for (i, g) in goals.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                write_goal(out, interner, g, vars);
+            }
+            out.push(')');
+        }
+        Goal::Or(a, b) => {
+            out.push('(');
+            write_goal(out, interner, a, vars);
+            out.push_str(" ; ");
+            write_goal(out, interner, b, vars);
+            out.push(')');
+        }
+        Goal::IfThenElse(c, t, e) => {
+            out.push('(');
+            write_goal(out, interner, c, vars);
+            out.push_str(" -> ");
+            write_goal(out, interner, t, vars);
+            if let Some(e) = e {
+                out.push_str(" ; ");
+                write_goal(out, interner, e, vars);
+            }
+            out.push(')');
+        }
+        Goal::Not(g) => {
+            out.push_str("\\+ ");
+            write_goal(out, interner, g, vars);
+        }
+    }
+}
+
+fn write_literals(out: &mut String, interner: &Interner, literals: &[Literal], vars: &VarTable) {
+    out.push('[');
+    for (i, l) in literals.iter().enumerate() {
+        if i > 0 {
+            out.push_str(", ");
+        }
+        write_named(out, interner, &l.term, vars, 999);
+    }
+    out.push(']');
+}
+
+/// The text form of an action schema with anonymous variable names (`_G0`, `_G1`, ...), so
+/// two schemas that are equal up to renaming print the same.
+pub fn action_to_canonical_string(interner: &Interner, action: &Action) -> String {
+    let anonymous = VarTable {
+        vars: action
+            .vars
+            .vars
+            .iter()
+            .map(|v| VarInfo { name: sym::ANON, occurrences: v.occurrences.clone() })
+            .collect(),
+    };
+    action_to_string(interner, &Action { vars: anonymous, ..action.clone() })
+}
+
+/// The text form of an action schema, one slot per line, for `--dump-after=hir`.
+pub fn action_to_string(interner: &Interner, action: &Action) -> String {
+    let mut out = String::new();
+    let head = match action.level {
+        Level::High => "action",
+        Level::Low => "ll_action",
+    };
+    let _ = write!(out, "{head} ");
+    write_named(&mut out, interner, &action.name.term, &action.vars, 999);
+    let snap = match action.snap {
+        Snap::Start => "start",
+        Snap::End => "end",
+        Snap::Instant => "instant",
+    };
+    let _ = writeln!(out, "  % {snap} of {}", interner.resolve(action.base));
+    for (label, literals) in
+        [("valid", &action.valid), ("invalid", &action.invalid), ("invalid_at_end", &action.invalid_at_end)]
+    {
+        let _ = write!(out, "  {label}: ");
+        write_literals(&mut out, interner, literals, &action.vars);
+        out.push('\n');
+    }
+    out.push_str("  on_kb: [");
+    for (i, g) in action.on_kb.iter().enumerate() {
+        if i > 0 {
+            out.push_str(", ");
+        }
+        write_goal(&mut out, interner, g, &action.vars);
+    }
+    out.push_str("]\n  effects: [");
+    for (i, e) in action.effects.iter().enumerate() {
+        if i > 0 {
+            out.push_str(", ");
+        }
+        out.push_str(match e.kind {
+            EffectKind::Add => "add(",
+            EffectKind::Del => "del(",
+        });
+        write_named(&mut out, interner, &e.literal.term, &action.vars, 999);
+        out.push(')');
+    }
+    out.push_str("]\n");
+    out
+}
+
+/// The HIR's text form, for `kbc check --dump-after=hir` and pass tests.
+pub fn print(interner: &Interner, kb: &Kb) -> String {
+    let mut out = String::new();
+    if kb.uses_std_domain {
+        out.push_str("% domain: std/blocks.pl\n");
+    }
+    out.push_str("% actions\n");
+    for action in &kb.actions {
+        out.push_str(&action_to_string(interner, action));
+    }
+    if !kb.mappings.is_empty() {
+        out.push_str("% mappings\n");
+        for m in &kb.mappings {
+            out.push_str("mapping ");
+            write_named(&mut out, interner, &m.high.term, &m.vars, 999);
+            out.push_str(" -> ");
+            write_literals(&mut out, interner, &m.steps, &m.vars);
+            out.push('\n');
+        }
+    }
+    if !kb.resources.is_empty() {
+        out.push_str("% resources\n");
+        for r in &kb.resources {
+            out.push_str("resources ");
+            write_named(&mut out, interner, &r.template.term, &r.vars, 999);
+            out.push('\n');
+        }
+    }
+    out.push_str("% problems\n");
+    for p in &kb.problems {
+        let _ = write!(out, "problem {}", interner.resolve(p.name));
+        if let Some(depth) = p.max_depth {
+            let _ = write!(out, " max_depth={depth}");
+        }
+        out.push_str("\n  init: ");
+        write_literals(&mut out, interner, &p.init, &p.vars);
+        out.push_str("\n  goal: ");
+        write_literals(&mut out, interner, &p.goal, &p.vars);
+        out.push('\n');
+    }
+    out.push_str("% static clauses\n");
+    for clause in &kb.clauses {
+        write_named(&mut out, interner, &clause.head.term, &clause.vars, 1199);
+        if let Some(body) = &clause.body {
+            out.push_str(" :- ");
+            write_goal(&mut out, interner, body, &clause.vars);
+        }
+        end_clause(&mut out);
+    }
+    out
+}
+
+/// Checks the HIR's invariants; a failure is a compiler bug, reported as an internal error.
+///
+/// Invariants: every variable id is in its item's table; every span lies in one known file
+/// with `start <= end`; literals are callable; an action's snap kind agrees with its name's
+/// suffix; a problem's init is ground.
+pub fn verify(kb: &Kb, files: usize) -> Result<(), String> {
+    fn check_span(span: Span, files: usize, what: &str) -> Result<(), String> {
+        if (span.file.0 as usize) < files && span.start <= span.end {
+            Ok(())
+        } else {
+            Err(format!("{what}: bad span {span:?}"))
+        }
+    }
+    fn check_term(term: &Term, vars: &VarTable, what: &str) -> Result<(), String> {
+        let mut bad = None;
+        term.for_each_var(&mut |v| {
+            if v.0 as usize >= vars.len() {
+                bad = Some(v);
+            }
+        });
+        match bad {
+            Some(v) => Err(format!("{what}: variable {v:?} outside its table of {}", vars.len())),
+            None => Ok(()),
+        }
+    }
+    fn check_literal(l: &Literal, vars: &VarTable, files: usize, what: &str) -> Result<(), String> {
+        if l.term.callable().is_none() {
+            return Err(format!("{what}: literal is not callable"));
+        }
+        check_span(l.span, files, what)?;
+        check_term(&l.term, vars, what)
+    }
+    fn check_goal(g: &Goal, vars: &VarTable, files: usize, what: &str) -> Result<(), String> {
+        let mut result = Ok(());
+        g.for_each_call(&mut |l| {
+            if result.is_ok() {
+                result = check_literal(l, vars, files, what);
+            }
+        });
+        result
+    }
+    for (i, a) in kb.actions.iter().enumerate() {
+        let what = format!("action #{i}");
+        check_span(a.span, files, &what)?;
+        check_literal(&a.name, &a.vars, files, &what)?;
+        for l in a.valid.iter().chain(&a.invalid).chain(&a.invalid_at_end) {
+            check_literal(l, &a.vars, files, &what)?;
+        }
+        for g in &a.on_kb {
+            check_goal(g, &a.vars, files, &what)?;
+        }
+        for e in &a.effects {
+            check_literal(&e.literal, &a.vars, files, &what)?;
+        }
+    }
+    for (i, c) in kb.clauses.iter().enumerate() {
+        let what = format!("clause #{i}");
+        check_span(c.span, files, &what)?;
+        check_literal(&c.head, &c.vars, files, &what)?;
+        if let Some(body) = &c.body {
+            check_goal(body, &c.vars, files, &what)?;
+        }
+    }
+    for (i, p) in kb.problems.iter().enumerate() {
+        let what = format!("problem #{i}");
+        check_span(p.span, files, &what)?;
+        for l in &p.goal {
+            check_literal(l, &p.vars, files, &what)?;
+        }
+        for l in &p.init {
+            check_literal(l, &p.vars, files, &what)?;
+            if !l.term.is_ground() {
+                return Err(format!("{what}: init literal is not ground"));
+            }
+        }
+    }
+    for (i, m) in kb.mappings.iter().enumerate() {
+        let what = format!("mapping #{i}");
+        check_literal(&m.high, &m.vars, files, &what)?;
+        for l in &m.steps {
+            check_literal(l, &m.vars, files, &what)?;
+        }
+    }
+    Ok(())
+}
+
+/// Checks that each action's snap kind and base name agree with its name; needs the interner.
+pub fn verify_names(kb: &Kb, interner: &Interner) -> Result<(), String> {
+    for a in &kb.actions {
+        let name = interner.resolve(a.name.name());
+        let base = interner.resolve(a.base);
+        let ok = match a.snap {
+            Snap::Start => name.strip_suffix("_start") == Some(base),
+            Snap::End => name.strip_suffix("_end") == Some(base),
+            Snap::Instant => name == base,
+        };
+        if !ok {
+            return Err(format!("action `{name}` has base `{base}` and snap {:?}", a.snap));
+        }
+    }
+    Ok(())
+}

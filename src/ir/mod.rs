@@ -1,0 +1,7 @@
+//! The data of each compiler stage. Each IR has a text form and a verifier beside it.
+//!
+//! - [`hir`]: the resolved knowledge base (actions, problems, static program);
+//! - [`unify`]: unification of HIR terms across items, for checks on the HIR.
+
+pub mod hir;
+pub mod unify;

@@ -1,0 +1,22 @@
+//! kbc compiles robot knowledge bases, written in a Prolog subset, into behaviour-tree
+//! bytecode for the `kbvm` virtual machine.
+//!
+//! The pipeline, in the order the passes run (see ARCHITECTURE.md for the codemap):
+//!
+//! ```text
+//! text --syntax--> AST --passes::load--> files in clause order --passes::lower--> HIR (resolved KB)
+//!      --passes::check--> diagnostics on names, arities, variables
+//! ```
+//!
+//! Every stage reports problems as [`diag::Diagnostic`] values and keeps going; the CLI
+//! (`src/cli`) is the only place that reads files or prints.
+
+pub mod builtins;
+pub mod cli;
+pub mod diag;
+pub mod driver;
+pub mod intern;
+pub mod ir;
+pub mod passes;
+pub mod source;
+pub mod syntax;

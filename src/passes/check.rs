@@ -1,0 +1,788 @@
+//! Pass `check`: whole-KB checks on the HIR, reported as diagnostics.
+//!
+//! Lowering checked the shape of each item on its own; these checks need the whole KB:
+//!
+//! - durative actions: every `X_start` has an `X_end` of the same arity, and the reverse;
+//! - duplicate action schemas (equal up to variable renaming);
+//! - mappings refer to known high-level and arm-level actions;
+//! - names: every predicate used in a condition, effect, goal or OnKB goal is defined by the
+//!   KB, produced by an effect, or present in an init state (with did-you-mean suggestions,
+//!   arity mismatches, and the common mix-up of state fluents and static KB facts);
+//! - goal literals that no effect can add and no init state holds;
+//! - effect variables that neither the action's name, its Valid list nor OnKB binds;
+//! - `duration/3` declarations for actions that exist, with numeric bounds;
+//! - clauses of one predicate spread over a file (as SWI-Prolog warns).
+//!
+//! Every check reports and continues; none depends on another having passed.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::builtins;
+use crate::diag::{Diagnostic, Diagnostics, best_match, codes};
+use crate::intern::{Interner, Symbol, sym};
+use crate::ir::hir::{self, Action, DeclarationKind, EffectKind, Goal, Kb, Level, Literal, Snap, Term, VarId};
+use crate::ir::unify::unifiable;
+use crate::passes::lower::{join_and, plural};
+use crate::source::Span;
+
+/// Runs every whole-KB check.
+pub fn check(kb: &Kb, interner: &Interner, diags: &mut Diagnostics) {
+    let vocabulary = Vocabulary::new(kb);
+    let mut checker = Checker { kb, interner, diags, vocabulary };
+    checker.durative_pairs();
+    checker.duplicate_actions();
+    checker.mappings();
+    checker.names();
+    checker.unreachable_goals();
+    checker.effect_variables();
+    checker.durations();
+    checker.discontiguous();
+}
+
+type Key = (Symbol, usize);
+
+/// Which predicates exist, and where.
+struct Vocabulary {
+    /// Heads of static clauses, and predicates declared `dynamic` (defined, with no clauses).
+    static_defined: BTreeSet<Key>,
+    /// Predicates of goal literals (goal facts are part of the KB for OnKB goals).
+    goal_facts: BTreeSet<Key>,
+    /// Predicates some effect adds.
+    produced: BTreeSet<Key>,
+    /// Predicates in some init state.
+    init: BTreeSet<Key>,
+    /// Predicates some action mentions in a condition or effect.
+    used_by_actions: BTreeSet<Key>,
+    /// Predicates named in clauses that failed to parse or lower.
+    recovered: BTreeSet<Key>,
+}
+
+/// Drops each key equal to the one before it. The clauses of a predicate usually come
+/// together, so this makes building a set from 100,000 clause heads cost 100,000 comparisons
+/// rather than as many tree insertions.
+fn distinct(keys: impl Iterator<Item = Key>) -> impl Iterator<Item = Key> {
+    let mut previous = None;
+    keys.filter(move |&k| previous.replace(k) != Some(k))
+}
+
+impl Vocabulary {
+    fn new(kb: &Kb) -> Vocabulary {
+        let key = |l: &Literal| (l.name(), l.arity());
+        let mut v = Vocabulary {
+            static_defined: distinct(kb.clauses.iter().map(|c| key(&c.head)))
+                .chain(kb.declarations.iter().filter(|d| d.kind == DeclarationKind::Dynamic).map(|d| (d.name, d.arity)))
+                .collect(),
+            goal_facts: kb.problems.iter().flat_map(|p| p.goal.iter().map(key)).collect(),
+            produced: BTreeSet::new(),
+            init: kb.problems.iter().flat_map(|p| p.init.iter().map(key)).collect(),
+            used_by_actions: BTreeSet::new(),
+            recovered: kb.recovered_names.iter().copied().collect(),
+        };
+        for action in &kb.actions {
+            for e in &action.effects {
+                if e.kind == EffectKind::Add {
+                    v.produced.insert(key(&e.literal));
+                }
+                v.used_by_actions.insert(key(&e.literal));
+            }
+            for l in action.valid.iter().chain(&action.invalid).chain(&action.invalid_at_end) {
+                v.used_by_actions.insert(key(l));
+            }
+        }
+        v
+    }
+
+    fn state_known(&self, key: Key) -> bool {
+        self.produced.contains(&key) || self.init.contains(&key) || self.recovered.contains(&key)
+    }
+
+    fn kb_known(&self, key: Key) -> bool {
+        builtins::is_builtin_predicate(key.0, key.1)
+            || self.static_defined.contains(&key)
+            || self.goal_facts.contains(&key)
+            || self.recovered.contains(&key)
+    }
+
+    fn state_names(&self) -> BTreeSet<Key> {
+        self.produced.iter().chain(&self.init).copied().collect()
+    }
+
+    fn kb_names(&self) -> BTreeSet<Key> {
+        self.static_defined.iter().chain(&self.goal_facts).copied().collect()
+    }
+}
+
+/// Where a literal is used, for messages and severities.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum StateUse {
+    Valid,
+    Invalid,
+    InvalidAtEnd,
+    Delete,
+    Goal,
+}
+
+impl StateUse {
+    fn describe(self) -> &'static str {
+        match self {
+            StateUse::Valid => "a Valid condition",
+            StateUse::Invalid => "an Invalid condition",
+            StateUse::InvalidAtEnd => "an InvalidAtEnd condition",
+            StateUse::Delete => "a `del` effect",
+            StateUse::Goal => "a goal",
+        }
+    }
+
+    /// A misspelt Valid condition or goal makes the action or problem impossible; an unknown
+    /// Invalid condition or deletion only does nothing, so it is a warning.
+    fn is_error(self) -> bool {
+        matches!(self, StateUse::Valid | StateUse::Goal)
+    }
+}
+
+struct Checker<'a> {
+    kb: &'a Kb,
+    interner: &'a Interner,
+    diags: &'a mut Diagnostics,
+    vocabulary: Vocabulary,
+}
+
+impl Checker<'_> {
+    fn name(&self, s: Symbol) -> &str {
+        self.interner.resolve(s)
+    }
+
+    fn indicator(&self, key: Key) -> String {
+        format!("{}/{}", self.name(key.0), key.1)
+    }
+
+    fn show(&self, literal: &Literal, vars: &hir::VarTable) -> String {
+        hir::term_to_string(self.interner, &literal.term, vars)
+    }
+
+    /// Did-you-mean over `candidates`: same arity first, then any arity.
+    fn suggest(&self, key: Key, candidates: &BTreeSet<Key>) -> Option<Key> {
+        let name = self.name(key.0);
+        let same_arity: Vec<&str> = candidates.iter().filter(|c| c.1 == key.1).map(|c| self.name(c.0)).collect();
+        if let Some(found) = best_match(name, same_arity.iter().copied()) {
+            return candidates.iter().find(|c| c.1 == key.1 && self.name(c.0) == found).copied();
+        }
+        let any: Vec<&str> = candidates.iter().map(|c| self.name(c.0)).collect();
+        let found = best_match(name, any.iter().copied())?;
+        candidates.iter().find(|c| self.name(c.0) == found).copied()
+    }
+
+    fn other_arities(&self, key: Key, candidates: &BTreeSet<Key>) -> Vec<usize> {
+        candidates.iter().filter(|c| c.0 == key.0 && c.1 != key.1).map(|c| c.1).collect()
+    }
+
+    // ---- durative pairs -------------------------------------------------------------------
+
+    fn durative_pairs(&mut self) {
+        // For each durative action: its start schemas and its end schemas.
+        type StartsAndEnds<'k> = (Vec<&'k Action>, Vec<&'k Action>);
+        let mut by_base: BTreeMap<(Level, Symbol), StartsAndEnds> = BTreeMap::new();
+        for action in &self.kb.actions {
+            match action.snap {
+                Snap::Start => by_base.entry((action.level, action.base)).or_default().0.push(action),
+                Snap::End => by_base.entry((action.level, action.base)).or_default().1.push(action),
+                Snap::Instant => {}
+            }
+        }
+        for ((_, base), (starts, ends)) in by_base {
+            let base_text = self.name(base).to_string();
+            match (starts.first(), ends.first()) {
+                (Some(start), None) => {
+                    let end_name = hir::term_to_string(self.interner, &start.name.term, &start.vars).replacen(
+                        &format!("{base_text}_start"),
+                        &format!("{base_text}_end"),
+                        1,
+                    );
+                    let head = if start.level == Level::High { "action" } else { "ll_action" };
+                    let skeleton = format!("\n\n{head}({end_name},\n    [], [], [], [],\n    []).");
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::UNPAIRED_DURATIVE,
+                            format!("durative action `{base_text}` has a start but no end"),
+                        )
+                        .primary(start.name.name_span, format!("`{base_text}_start` declared here"))
+                        .with_note(
+                            "a durative action is a pair `X_start(Args)` and `X_end(Args)` with the same arguments",
+                        )
+                        .with_fix(
+                            format!("declare `{end_name}`"),
+                            Span::point(start.span.file, start.span.end),
+                            skeleton,
+                        )
+                        .with_help(format!(
+                            "declare `{end_name}`, or rename the action without `_start` to make it instantaneous"
+                        )),
+                    );
+                }
+                (None, Some(end)) => {
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::UNPAIRED_DURATIVE,
+                            format!("durative action `{base_text}` has an end but no start"),
+                        )
+                        .primary(end.name.name_span, format!("`{base_text}_end` declared here"))
+                        .with_note(
+                            "a durative action is a pair `X_start(Args)` and `X_end(Args)` with the same arguments",
+                        )
+                        .with_help(format!("declare `{base_text}_start` with the same arguments")),
+                    );
+                }
+                (Some(start), Some(_)) => {
+                    let arity = start.name.arity();
+                    for end in ends.iter().filter(|e| e.name.arity() != arity) {
+                        self.diags.push(
+                            Diagnostic::error(
+                                codes::DURATIVE_ARITY,
+                                format!(
+                                    "`{base_text}_end` takes {} but `{base_text}_start` takes {arity}",
+                                    plural(end.name.arity(), "argument")
+                                ),
+                            )
+                            .primary(end.name.span, plural(end.name.arity(), "argument"))
+                            .secondary(start.name.span, plural(arity, "argument"))
+                            .with_note("the end of a durative action must name the same arguments as its start")
+                            .with_help("give both the same arguments"),
+                        );
+                    }
+                    for start in starts.iter().skip(1).filter(|s| s.name.arity() != arity) {
+                        self.diags.push(
+                            Diagnostic::error(
+                                codes::DURATIVE_ARITY,
+                                format!(
+                                    "this `{base_text}_start` takes {} but another takes {arity}",
+                                    plural(start.name.arity(), "argument")
+                                ),
+                            )
+                            .primary(start.name.span, plural(start.name.arity(), "argument"))
+                            .with_help("give every schema of one durative action the same arguments"),
+                        );
+                    }
+                }
+                (None, None) => {}
+            }
+        }
+    }
+
+    fn duplicate_actions(&mut self) {
+        let mut seen: BTreeMap<String, &Action> = BTreeMap::new();
+        for action in &self.kb.actions {
+            let text = hir::action_to_canonical_string(self.interner, action);
+            match seen.get(&text) {
+                Some(first) => {
+                    let shown = self.show(&action.name, &action.vars);
+                    self.diags.push(
+                        Diagnostic::error(codes::DUPLICATE_ACTION, format!("duplicate action schema `{shown}`"))
+                            .primary(action.name.span, "declared again here")
+                            .secondary(first.name.span, "first declared here")
+                            .with_note("the two schemas are the same up to variable names, so the planner would try each twice")
+                            .with_fix("remove the duplicate", action.span, "")
+                            .with_help("remove one of them"),
+                    );
+                }
+                None => {
+                    seen.insert(text, action);
+                }
+            }
+        }
+    }
+
+    fn mappings(&mut self) {
+        let high: BTreeSet<Key> = self
+            .kb
+            .actions
+            .iter()
+            .filter(|a| a.level == Level::High)
+            .map(|a| (a.name.name(), a.name.arity()))
+            .collect();
+        let low: BTreeSet<Key> =
+            self.kb.actions.iter().filter(|a| a.level == Level::Low).map(|a| (a.name.name(), a.name.arity())).collect();
+        for mapping in &self.kb.mappings {
+            let key = (mapping.high.name(), mapping.high.arity());
+            if !high.contains(&key) {
+                self.unknown_in_mapping(&mapping.high, &high, "high-level action", "action/6");
+            }
+            for step in &mapping.steps {
+                let key = (step.name(), step.arity());
+                if !low.contains(&key) {
+                    self.unknown_in_mapping(step, &low, "arm-level action", "ll_action/6");
+                }
+            }
+        }
+    }
+
+    fn unknown_in_mapping(&mut self, literal: &Literal, known: &BTreeSet<Key>, what: &str, declared_by: &str) {
+        let key = (literal.name(), literal.arity());
+        let indicator = self.indicator(key);
+        let mut diagnostic =
+            Diagnostic::error(codes::UNKNOWN_MAPPED_ACTION, format!("mapping refers to unknown {what} `{indicator}`"))
+                .primary(literal.name_span, format!("no {declared_by} declares `{indicator}`"));
+        if let Some(found) = self.suggest(key, known) {
+            let found_text = self.name(found.0).to_string();
+            diagnostic = diagnostic.with_help(format!("did you mean `{}`?", self.indicator(found)));
+            if found.1 == key.1 {
+                diagnostic = diagnostic.with_fix(format!("replace with `{found_text}`"), literal.name_span, found_text);
+            }
+        } else {
+            diagnostic = diagnostic.with_help(format!("declare it with {declared_by}"));
+        }
+        self.diags.push(diagnostic);
+    }
+
+    // ---- names ----------------------------------------------------------------------------
+
+    fn names(&mut self) {
+        let kb = self.kb;
+        for action in &kb.actions {
+            for l in &action.valid {
+                self.state_literal(l, StateUse::Valid);
+            }
+            for l in &action.invalid {
+                self.state_literal(l, StateUse::Invalid);
+            }
+            for l in &action.invalid_at_end {
+                self.state_literal(l, StateUse::InvalidAtEnd);
+            }
+            for e in &action.effects {
+                match e.kind {
+                    EffectKind::Del => self.state_literal(&e.literal, StateUse::Delete),
+                    EffectKind::Add => self.added_literal(&e.literal),
+                }
+            }
+            for goal in &action.on_kb {
+                self.kb_goal(goal);
+            }
+        }
+        for clause in &kb.clauses {
+            if let Some(body) = &clause.body {
+                self.kb_goal(body);
+            }
+        }
+        for problem in &kb.problems {
+            for l in &problem.goal {
+                self.state_literal(l, StateUse::Goal);
+            }
+            for l in &problem.init {
+                self.init_literal(l);
+            }
+        }
+    }
+
+    fn state_literal(&mut self, literal: &Literal, used: StateUse) {
+        let key = (literal.name(), literal.arity());
+        let indicator = self.indicator(key);
+        if builtins::is_builtin_predicate(key.0, key.1) {
+            let help = match used {
+                StateUse::Valid => "move it to the OnKB slot, where goals are proven".to_string(),
+                StateUse::Invalid | StateUse::InvalidAtEnd => {
+                    "to require that it fails, write `\\+ Test` in the OnKB slot".to_string()
+                }
+                _ => "state facts are atoms or compounds such as `clear(b1)`".to_string(),
+            };
+            self.diags.push(
+                Diagnostic::error(
+                    codes::UNKNOWN_PREDICATE,
+                    format!("`{indicator}` is a built-in test, not a state fact"),
+                )
+                .primary(literal.span, format!("used as {}", used.describe()))
+                .with_note(
+                    "conditions of this kind are matched against the facts of the state, which never hold built-ins",
+                )
+                .with_help(help),
+            );
+            return;
+        }
+        if self.vocabulary.state_known(key) {
+            return;
+        }
+        if self.kb.problems.is_empty() {
+            // Without a problem the initial states are unknown, so any fluent may come from
+            // one; only a name close to another fluent's is worth a warning.
+            self.possible_misspelling(literal, key, used);
+            return;
+        }
+        let state_names = self.vocabulary.state_names();
+        let arities = self.other_arities(key, &state_names);
+        if !arities.is_empty() {
+            self.wrong_arity(literal, key, &arities, "initial states and effects use");
+            return;
+        }
+        let message = match used {
+            StateUse::Goal => format!("unknown predicate `{indicator}` in a goal"),
+            _ => format!("unknown predicate `{indicator}`"),
+        };
+        let mut diagnostic = if used.is_error() {
+            Diagnostic::error(codes::UNKNOWN_PREDICATE, message)
+        } else {
+            Diagnostic::warning(
+                codes::NEVER_PRODUCED,
+                format!("`{indicator}` is never in any state, so this condition never matches"),
+            )
+        }
+        .primary(literal.name_span, format!("used in {}", used.describe()))
+        .with_note("state facts come from init states and `add` effects; no init state holds it and no action adds it");
+        if self.vocabulary.static_defined.contains(&key) {
+            diagnostic = diagnostic
+                .with_note(format!(
+                    "`{indicator}` is a static fact of the KB, and {} is matched against the state",
+                    used.describe()
+                ))
+                .with_help("static facts belong in the OnKB slot, which is proven against the KB");
+        } else {
+            diagnostic = self.with_suggestion(diagnostic, literal, key, &state_names);
+        }
+        self.diags.push(diagnostic);
+    }
+
+    fn possible_misspelling(&mut self, literal: &Literal, key: Key, used: StateUse) {
+        let mut candidates = self.vocabulary.state_names();
+        candidates.extend(self.vocabulary.used_by_actions.iter().copied());
+        candidates.remove(&key);
+        let Some(found) = self.suggest(key, &candidates).filter(|f| f.1 == key.1) else { return };
+        let indicator = self.indicator(key);
+        let found_text = self.name(found.0).to_string();
+        self.diags.push(
+            Diagnostic::warning(codes::NEVER_PRODUCED, format!("no action adds `{indicator}`: is it a misspelling?"))
+                .primary(literal.name_span, format!("used in {}", used.describe()))
+                .with_note(
+                    "no problem is loaded, so this could still come from an initial state; check with the goal file",
+                )
+                .with_fix(format!("replace with `{found_text}`"), literal.name_span, found_text)
+                .with_help(format!("did you mean `{}`?", self.indicator(found))),
+        );
+    }
+
+    fn added_literal(&mut self, literal: &Literal) {
+        // An added fact defines its predicate; only an arity clash with other uses is suspect.
+        let key = (literal.name(), literal.arity());
+        if builtins::is_builtin_predicate(key.0, key.1) {
+            let indicator = self.indicator(key);
+            self.diags.push(
+                Diagnostic::error(codes::UNKNOWN_PREDICATE, format!("`{indicator}` is a built-in, not a state fact"))
+                    .primary(literal.span, "added by an effect")
+                    .with_help("effects add facts such as `clear(B)`"),
+            );
+        }
+    }
+
+    fn init_literal(&mut self, literal: &Literal) {
+        let key = (literal.name(), literal.arity());
+        if self.vocabulary.used_by_actions.contains(&key)
+            || self.vocabulary.goal_facts.contains(&key)
+            || self.kb.actions.is_empty()
+        {
+            return;
+        }
+        let arities = self.other_arities(key, &self.vocabulary.used_by_actions);
+        if !arities.is_empty() {
+            self.wrong_arity(literal, key, &arities, "the actions use");
+            return;
+        }
+        let indicator = self.indicator(key);
+        if let Some(found) = self.suggest(key, &self.vocabulary.used_by_actions) {
+            let found_text = self.name(found.0).to_string();
+            let mut diagnostic = Diagnostic::warning(
+                codes::NEVER_PRODUCED,
+                format!("`{indicator}` is in the initial state but no action uses it"),
+            )
+            .primary(literal.name_span, "no action reads or changes this fact")
+            .with_help(format!("did you mean `{}`?", self.indicator(found)));
+            if found.1 == key.1 {
+                diagnostic = diagnostic.with_fix(format!("replace with `{found_text}`"), literal.name_span, found_text);
+            }
+            self.diags.push(diagnostic);
+        }
+    }
+
+    fn wrong_arity(&mut self, literal: &Literal, key: Key, arities: &[usize], where_: &str) {
+        let name = self.name(key.0).to_string();
+        let list = arities.iter().map(|a| format!("`{name}/{a}`")).collect::<Vec<_>>();
+        self.diags.push(
+            Diagnostic::error(
+                codes::WRONG_ARITY,
+                format!(
+                    "`{name}` is used with {} here, but elsewhere with {}",
+                    plural(key.1, "argument"),
+                    join_or(arities)
+                ),
+            )
+            .primary(literal.span, plural(key.1, "argument"))
+            .with_note(format!("{where_} {}", join_and(&list)))
+            .with_help(format!("write `{name}` with {} arguments", join_or(arities))),
+        );
+    }
+
+    fn with_suggestion(
+        &self,
+        diagnostic: Diagnostic,
+        literal: &Literal,
+        key: Key,
+        candidates: &BTreeSet<Key>,
+    ) -> Diagnostic {
+        match self.suggest(key, candidates) {
+            Some(found) => {
+                let found_text = self.name(found.0).to_string();
+                let diagnostic = diagnostic.with_help(format!("did you mean `{}`?", self.indicator(found)));
+                if found.1 == key.1 {
+                    diagnostic.with_fix(format!("replace with `{found_text}`"), literal.name_span, found_text)
+                } else {
+                    diagnostic
+                }
+            }
+            None => diagnostic,
+        }
+    }
+
+    fn kb_goal(&mut self, goal: &Goal) {
+        let mut calls = Vec::new();
+        goal.for_each_call(&mut |l| calls.push(l));
+        for literal in calls {
+            self.kb_call(literal);
+        }
+    }
+
+    fn kb_call(&mut self, literal: &Literal) {
+        let key = (literal.name(), literal.arity());
+        if self.vocabulary.kb_known(key) {
+            return;
+        }
+        let mut kb_names = self.vocabulary.kb_names();
+        let builtin_keys: BTreeSet<Key> =
+            [(sym::MEMBER, 2), (sym::TRUE, 0), (sym::FAIL, 0), (sym::NOT, 1)].into_iter().collect();
+        let arities = self.other_arities(key, &kb_names.union(&builtin_keys).copied().collect());
+        if !arities.is_empty() {
+            self.wrong_arity(literal, key, &arities, "the KB defines");
+            return;
+        }
+        let indicator = self.indicator(key);
+        let mut diagnostic = Diagnostic::error(codes::UNKNOWN_PREDICATE, format!("unknown predicate `{indicator}`"))
+            .primary(literal.name_span, "no clause defines it and it is not a built-in");
+        if self.vocabulary.state_known(key) {
+            diagnostic = diagnostic
+                .with_note(format!(
+                    "`{indicator}` is a state fact, but OnKB goals and rule bodies are proven against the KB"
+                ))
+                .with_help("conditions on the state belong in the Valid slot (or Invalid, to forbid them)");
+        } else if builtins::NOT_PROVIDED.contains(&self.name(key.0)) {
+            diagnostic = diagnostic
+                .with_note(format!(
+                    "`{}` is an SWI-Prolog library predicate that kbc does not provide",
+                    self.name(key.0)
+                ))
+                .with_help("see docs/dsl.md for the built-ins kbc's resolution engine supports");
+        } else {
+            kb_names.extend(builtin_keys);
+            diagnostic = self.with_suggestion(diagnostic, literal, key, &kb_names);
+        }
+        self.diags.push(diagnostic);
+    }
+
+    // ---- goals ----------------------------------------------------------------------------
+
+    fn unreachable_goals(&mut self) {
+        let adds: Vec<&Literal> = self
+            .kb
+            .actions
+            .iter()
+            .flat_map(|a| a.effects.iter().filter(|e| e.kind == EffectKind::Add).map(|e| &e.literal))
+            .collect();
+        for problem in &self.kb.problems {
+            for goal in &problem.goal {
+                let key = (goal.name(), goal.arity());
+                if !self.vocabulary.state_known(key) || self.vocabulary.recovered.contains(&key) {
+                    continue; // reported as an unknown predicate, or hidden by a syntax error
+                }
+                let in_init = problem.init.iter().any(|fact| unifiable(&goal.term, &fact.term));
+                let added = adds.iter().any(|effect| unifiable(&goal.term, &effect.term));
+                if in_init || added {
+                    continue;
+                }
+                let shown = self.show(goal, &problem.vars);
+                let problem_name = self.name(problem.name).to_string();
+                self.diags.push(
+                    Diagnostic::error(codes::UNREACHABLE_GOAL, format!("goal `{shown}` can never be reached"))
+                        .primary(goal.span, "no action adds a fact like this, and the initial state lacks it")
+                        .secondary(problem.name_span, format!("in problem `{problem_name}`"))
+                        .with_note(format!(
+                            "`{}` facts exist, but none unifies with this one: check the arguments",
+                            self.indicator(key)
+                        ))
+                        .with_help("correct the goal, or add the fact to the initial state"),
+                );
+            }
+        }
+    }
+
+    // ---- variables ------------------------------------------------------------------------
+
+    fn effect_variables(&mut self) {
+        for action in &self.kb.actions {
+            let mut bound: BTreeSet<VarId> = BTreeSet::new();
+            action.name.term.for_each_var(&mut |v| {
+                bound.insert(v);
+            });
+            for l in &action.valid {
+                l.term.for_each_var(&mut |v| {
+                    bound.insert(v);
+                });
+            }
+            for g in &action.on_kb {
+                g.for_each_call(&mut |l| {
+                    l.term.for_each_var(&mut |v| {
+                        bound.insert(v);
+                    })
+                });
+            }
+            let mut reported: BTreeSet<VarId> = BTreeSet::new();
+            for effect in &action.effects {
+                let mut free = Vec::new();
+                effect.literal.term.for_each_var(&mut |v| {
+                    if !bound.contains(&v) && !free.contains(&v) {
+                        free.push(v);
+                    }
+                });
+                for v in free {
+                    if !reported.insert(v) {
+                        continue;
+                    }
+                    let info = action.vars.get(v);
+                    let name = self.name(info.name).to_string();
+                    let at = info
+                        .occurrences
+                        .iter()
+                        .find(|s| effect.span.start <= s.start && s.end <= effect.span.end)
+                        .copied()
+                        .unwrap_or(effect.span);
+                    let shown_name = if name == "_" { "`_`".to_string() } else { format!("`{name}`") };
+                    self.diags.push(
+                        Diagnostic::error(codes::UNBOUND_EFFECT_VARIABLE, format!("variable {shown_name} in an effect is never bound"))
+                            .primary(at, "not bound when the effect applies")
+                            .secondary(action.name.span, "the action")
+                            .with_note("effect variables must be bound by the action's name, its Valid list or OnKB; Invalid conditions bind nothing")
+                            .with_help(format!("add {shown_name} to the action's arguments, or bind it in Valid or OnKB")),
+                    );
+                }
+            }
+        }
+    }
+
+    // ---- durations ------------------------------------------------------------------------
+
+    fn durations(&mut self) {
+        let durative: BTreeSet<Key> =
+            self.kb.actions.iter().filter(|a| a.snap != Snap::Instant).map(|a| (a.base, a.name.arity())).collect();
+        let instant: BTreeSet<Key> =
+            self.kb.actions.iter().filter(|a| a.snap == Snap::Instant).map(|a| (a.base, a.name.arity())).collect();
+        for clause in &self.kb.clauses {
+            if (clause.head.name(), clause.head.arity()) != (sym::DURATION, 3) {
+                continue;
+            }
+            let args = clause.head.term.args();
+            let Some(key) = args[0].callable() else {
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::BAD_DURATION,
+                        "the first argument of `duration/3` must name a durative action",
+                    )
+                    .primary(clause.head.span, "expected a term such as `grip(A, B)`")
+                    .with_help("write `duration(grip(_, _), 2, 4).`"),
+                );
+                continue;
+            };
+            if durative.contains(&key) {
+                if clause.body.is_none() {
+                    self.duration_bounds(clause, &args[1..]);
+                }
+                continue;
+            }
+            let indicator = self.indicator(key);
+            let mut diagnostic =
+                Diagnostic::error(codes::BAD_DURATION, format!("duration for unknown durative action `{indicator}`"))
+                    .primary(
+                        clause.head.span,
+                        format!("no `{0}_start` and `{0}_end` with {1}", self.name(key.0), plural(key.1, "argument")),
+                    );
+            if instant.contains(&key) {
+                diagnostic =
+                    diagnostic.with_note(format!("`{indicator}` is instantaneous: it has no `_start`/`_end` pair"));
+            } else if let Some(found) = self.suggest(key, &durative) {
+                diagnostic = diagnostic.with_help(format!("did you mean `{}`?", self.indicator(found)));
+            } else {
+                diagnostic = diagnostic
+                    .with_note("`duration(X(Args), Min, Max)` names the durative action without `_start` or `_end`");
+            }
+            self.diags.push(diagnostic);
+        }
+    }
+
+    fn duration_bounds(&mut self, clause: &hir::Clause, bounds: &[Term]) {
+        for (bound, which) in bounds.iter().zip(["minimum", "maximum"]) {
+            let ok = match bound {
+                Term::Int(i) => *i >= 0,
+                Term::Float(f) => *f >= 0.0,
+                _ => false,
+            };
+            if !ok {
+                let shown = hir::term_to_string(self.interner, bound, &clause.vars);
+                self.diags.push(
+                    Diagnostic::error(codes::BAD_DURATION, format!("expected a non-negative number as the {which} duration, found `{shown}`"))
+                        .primary(clause.head.span, format!("the {which} is not a number"))
+                        .with_help("write numbers, or a rule that computes them with `is`: `duration(move(_, X), D, D) :- D is X * 2.`"),
+                );
+            }
+        }
+    }
+
+    // ---- layout ---------------------------------------------------------------------------
+
+    fn discontiguous(&mut self) {
+        let declared: BTreeSet<(crate::source::FileId, Symbol, usize)> = self
+            .kb
+            .declarations
+            .iter()
+            .filter(|d| matches!(d.kind, DeclarationKind::Discontiguous | DeclarationKind::Dynamic))
+            .map(|d| (d.span.file, d.name, d.arity))
+            .collect();
+        let mut closed: BTreeMap<(crate::source::FileId, Symbol, usize), Span> = BTreeMap::new();
+        let mut warned: BTreeSet<(crate::source::FileId, Symbol, usize)> = BTreeSet::new();
+        let mut previous: Option<(crate::source::FileId, Symbol, usize, Span)> = None;
+        for site in &self.kb.head_sites {
+            let key = (site.file, site.name, site.arity);
+            if let Some((file, name, arity, span)) = previous
+                && (file, name, arity) != key
+            {
+                closed.insert((file, name, arity), span);
+            }
+            if previous.is_none_or(|(f, n, a, _)| (f, n, a) != key)
+                && let Some(&last) = closed.get(&key)
+                && !declared.contains(&key)
+                && warned.insert(key)
+            {
+                let indicator = self.indicator((site.name, site.arity));
+                self.diags.push(
+                    Diagnostic::warning(
+                        codes::DISCONTIGUOUS,
+                        format!("clauses of `{indicator}` are not together in the file"),
+                    )
+                    .primary(site.span, "this clause is separated from the others")
+                    .secondary(last, "the previous clause is here")
+                    .with_note("SWI-Prolog warns about this too: it usually means a clause was misplaced or misspelt")
+                    .with_help(format!("move the clauses together, or declare `:- discontiguous {indicator}.`")),
+                );
+            }
+            previous = Some((site.file, site.name, site.arity, site.span));
+        }
+    }
+}
+
+fn join_or(arities: &[usize]) -> String {
+    match arities {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} or {last}", rest.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")),
+    }
+}

@@ -1,0 +1,981 @@
+//! Pass `lower`: the clauses of the loaded files become a resolved KB ([`hir::Kb`]).
+//!
+//! Each clause is sorted by what it means in the paper's model: `action/6` and `ll_action/6`
+//! schemas, `mapping/2`, `resources/1`, problems (`init_state/1` with `goal_state/1`, and
+//! tests `Name :- go(Init, Goal)` with `go/4` and `go/5`), directives, and everything else as
+//! the static program. Lowering reports what is wrong with the *shape* of each item (an action
+//! with five slots, a slot that is not a list, an effect that is not `add`/`del`, a problem
+//! without a goal, a non-ground init fact) and the per-clause variable warnings that
+//! SWI-Prolog gives (singletons). Checks that need the whole KB (names, pairing of `_start`
+//! and `_end`) are in `passes::check`.
+//!
+//! Variables are numbered per clause in order of first occurrence, so items that are equal up
+//! to renaming lower to equal terms.
+
+use rustc_hash::FxHashMap;
+
+use super::load::Loaded;
+use crate::diag::{Diagnostic, Diagnostics, Edit, codes};
+use crate::intern::{Interner, Symbol, sym};
+use crate::ir::hir::{
+    self, Action, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level, Literal,
+    Mapping, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, VarId, VarInfo, VarTable,
+};
+use crate::source::{FileId, SourceDb, Span};
+use crate::syntax::ast::{self, Notation, TermKind};
+use crate::syntax::printer::term_to_string;
+
+/// Lowers the loaded clauses (in program order) into a KB.
+pub fn lower(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut Diagnostics) -> Kb {
+    let mut lowerer = Lowerer { interner, diags, db, kb: Kb::default(), state_files: Vec::new() };
+    for clause in loaded.clauses() {
+        lowerer.clause(clause);
+    }
+    lowerer.finish_init_goal_states();
+    lowerer.kb
+}
+
+/// Built-in predicates a KB may not redefine: control constructs and ISO built-ins.
+pub fn is_control_or_iso_builtin(name: Symbol, arity: usize) -> bool {
+    matches!(
+        (name, arity),
+        (sym::COMMA, 2)
+            | (sym::SEMI, 2)
+            | (sym::ARROW, 2)
+            | (sym::NOT_PROVABLE, 1)
+            | (sym::NECK, 1 | 2)
+            | (sym::EQ, 2)
+            | (sym::NOT_UNIFY, 2)
+            | (sym::IDENTICAL, 2)
+            | (sym::NOT_IDENTICAL, 2)
+            | (sym::IS, 2)
+            | (sym::LT, 2)
+            | (sym::GT, 2)
+            | (sym::LE, 2)
+            | (sym::GE, 2)
+            | (sym::ARITH_EQ, 2)
+            | (sym::ARITH_NE, 2)
+            | (sym::TRUE, 0)
+            | (sym::FAIL, 0)
+            | (sym::FALSE, 0)
+            | (sym::CUT, 0)
+    )
+}
+
+/// The variables of the clause being lowered.
+#[derive(Default)]
+struct Scope {
+    table: VarTable,
+    by_name: FxHashMap<Symbol, VarId>,
+}
+
+impl Scope {
+    fn var(&mut self, name: Symbol, span: Span) -> VarId {
+        if name != sym::ANON
+            && let Some(&id) = self.by_name.get(&name)
+        {
+            self.table.vars[id.0 as usize].occurrences.push(span);
+            return id;
+        }
+        let id = VarId(self.table.vars.len() as u32);
+        self.table.vars.push(VarInfo { name, occurrences: vec![span] });
+        if name != sym::ANON {
+            self.by_name.insert(name, id);
+        }
+        id
+    }
+}
+
+/// Parts of an `init_state`/`goal_state` problem, collected per file.
+struct StateFile {
+    file: FileId,
+    init: Option<(Vec<Literal>, Span)>,
+    goal: Option<(Vec<Literal>, Span)>,
+    scope: Scope,
+}
+
+struct Lowerer<'a> {
+    interner: &'a mut Interner,
+    diags: &'a mut Diagnostics,
+    db: &'a SourceDb,
+    kb: Kb,
+    state_files: Vec<StateFile>,
+}
+
+impl Lowerer<'_> {
+    fn show(&self, term: &ast::Term) -> String {
+        let text = term_to_string(self.interner, term);
+        if text.chars().count() > 60 {
+            let cut: String = text.chars().take(57).collect();
+            format!("{cut}...")
+        } else {
+            text
+        }
+    }
+
+    fn clause(&mut self, clause: &ast::Clause) {
+        let term = &clause.term;
+        if clause.recovered {
+            self.record_recovered_names(term);
+            return;
+        }
+        if let Some(c) = term.as_compound(sym::NECK, 1)
+            && c.notation == Notation::Prefix
+        {
+            self.directive(&c.args[0]);
+            return;
+        }
+        if let Some(c) = term.as_compound(sym::NECK, 2) {
+            self.rule(&c.args[0], &c.args[1], clause.span);
+            return;
+        }
+        self.fact(term, clause.span);
+    }
+
+    /// Remembers every predicate named in a clause that failed to parse.
+    fn record_recovered_names(&mut self, term: &ast::Term) {
+        if let Some(callable) = term.callable() {
+            self.kb.recovered_names.push(callable);
+        }
+        match &term.kind {
+            TermKind::Compound(c) => c.args.iter().for_each(|a| self.record_recovered_names(a)),
+            TermKind::List(l) => l.items.iter().for_each(|a| self.record_recovered_names(a)),
+            _ => {}
+        }
+    }
+
+    fn head_site(&mut self, head: &ast::Term) {
+        if let Some((name, arity)) = head.callable() {
+            self.kb.head_sites.push(HeadSite { file: head.span.file, name, arity, span: head.name_span() });
+        }
+    }
+
+    // ---- terms ----------------------------------------------------------------------------
+
+    fn term(&mut self, t: &ast::Term, scope: &mut Scope) -> hir::Term {
+        match &t.kind {
+            TermKind::Atom(s) => hir::Term::Atom(*s),
+            TermKind::Var(s) => hir::Term::Var(scope.var(*s, t.span)),
+            TermKind::Int(i) => hir::Term::Int(*i),
+            TermKind::Float(f) => hir::Term::Float(*f),
+            TermKind::Str(s) => hir::Term::Str(*s),
+            TermKind::Compound(c) => {
+                hir::Term::Compound(c.functor, c.args.iter().map(|a| self.term(a, scope)).collect())
+            }
+            TermKind::List(l) => {
+                let items: Vec<hir::Term> = l.items.iter().map(|a| self.term(a, scope)).collect();
+                let mut list = match &l.tail {
+                    Some(tail) => self.term(tail, scope),
+                    None => hir::Term::Atom(sym::NIL),
+                };
+                for item in items.into_iter().rev() {
+                    list = hir::Term::Compound(sym::CONS, Box::new([item, list]));
+                }
+                list
+            }
+            // Clauses with errors are not lowered.
+            TermKind::Error => hir::Term::Atom(sym::ANON),
+        }
+    }
+
+    /// A literal: an atom or compound. Reports anything else.
+    fn literal(&mut self, t: &ast::Term, scope: &mut Scope, what: &str) -> Option<Literal> {
+        if t.callable().is_none() {
+            let found = describe_non_callable(t);
+            let mut diagnostic = Diagnostic::error(codes::NOT_CALLABLE, format!("expected {what}, found {found}"))
+                .primary(t.span, "not an atom or compound term");
+            if matches!(t.kind, TermKind::Var(_)) {
+                diagnostic = diagnostic
+                    .with_note("a variable cannot stand for a literal: kbc does not call terms built at run time");
+            }
+            self.diags.push(diagnostic);
+            return None;
+        }
+        let term = self.term(t, scope);
+        Some(Literal { term, span: t.span, name_span: t.name_span() })
+    }
+
+    /// The items of a proper list, or a diagnostic naming `what` the list is.
+    fn list<'t>(&mut self, t: &'t ast::Term, what: impl Fn() -> String) -> Option<&'t [ast::Term]> {
+        match &t.kind {
+            TermKind::List(l) if l.tail.is_none() => Some(&l.items),
+            TermKind::List(l) => {
+                let tail = l.tail.as_ref().expect("checked above");
+                self.diags.push(
+                    Diagnostic::error(codes::SLOT_NOT_LIST, format!("{} must be a proper list", what()))
+                        .primary(tail.span, "a list with an open tail")
+                        .with_help("list the elements without `|Tail`"),
+                );
+                None
+            }
+            _ => {
+                let found = self.show(t);
+                self.diags.push(
+                    Diagnostic::error(codes::SLOT_NOT_LIST, format!("{} must be a list, found `{found}`", what()))
+                        .primary(t.span, "expected a list `[...]`")
+                        .with_help(format!("write `[{found}]`, or `[]` for none")),
+                );
+                None
+            }
+        }
+    }
+
+    fn goal(&mut self, t: &ast::Term, scope: &mut Scope) -> Option<Goal> {
+        if let TermKind::Compound(c) = &t.kind {
+            match (c.functor, c.args.len()) {
+                (sym::COMMA, 2) => {
+                    let mut goals = Vec::new();
+                    let mut rest = t;
+                    loop {
+                        match rest.as_compound(sym::COMMA, 2) {
+                            Some(pair) => {
+                                goals.push(self.goal(&pair.args[0], scope));
+                                rest = &pair.args[1];
+                            }
+                            None => {
+                                goals.push(self.goal(rest, scope));
+                                break;
+                            }
+                        }
+                    }
+                    return goals.into_iter().collect::<Option<Vec<_>>>().map(Goal::And);
+                }
+                (sym::SEMI, 2) => {
+                    if let Some(if_then) = c.args[0].as_compound(sym::ARROW, 2) {
+                        let condition = self.goal(&if_then.args[0], scope);
+                        let then = self.goal(&if_then.args[1], scope);
+                        let otherwise = self.goal(&c.args[1], scope);
+                        return Some(Goal::IfThenElse(
+                            Box::new(condition?),
+                            Box::new(then?),
+                            Some(Box::new(otherwise?)),
+                        ));
+                    }
+                    let a = self.goal(&c.args[0], scope);
+                    let b = self.goal(&c.args[1], scope);
+                    return Some(Goal::Or(Box::new(a?), Box::new(b?)));
+                }
+                (sym::ARROW, 2) => {
+                    let condition = self.goal(&c.args[0], scope);
+                    let then = self.goal(&c.args[1], scope);
+                    return Some(Goal::IfThenElse(Box::new(condition?), Box::new(then?), None));
+                }
+                (sym::NOT_PROVABLE | sym::NOT, 1) => {
+                    return self.goal(&c.args[0], scope).map(|g| Goal::Not(Box::new(g)));
+                }
+                _ => {}
+            }
+        }
+        self.literal(t, scope, "a goal").map(Goal::Call)
+    }
+
+    // ---- clauses --------------------------------------------------------------------------
+
+    fn directive(&mut self, goal: &ast::Term) {
+        let Some((name, arity)) = goal.callable() else {
+            self.diags.push(
+                Diagnostic::warning(codes::IGNORED_DIRECTIVE, "directive ignored: it is not a goal")
+                    .primary(goal.span, "not an atom or compound term"),
+            );
+            return;
+        };
+        match (name, arity) {
+            (sym::DYNAMIC, 1) | (sym::DISCONTIGUOUS, 1) => {
+                let kind = if name == sym::DYNAMIC { DeclarationKind::Dynamic } else { DeclarationKind::Discontiguous };
+                self.declarations(kind, &goal.args()[0]);
+            }
+            (sym::OP, 3) => {
+                self.diags.push(
+                    Diagnostic::error(codes::UNSUPPORTED_OPERATOR, "user-defined operators are not supported")
+                        .primary(goal.span, "`op/3` changes how the rest of the file reads")
+                        .with_note("kbc reads a fixed operator table, so every KB reads the same way in every tool (docs/dsl.md)")
+                        .with_help("remove the directive and write the terms in canonical form, e.g. `holds(A, B)`"),
+                );
+            }
+            (sym::USE_MODULE, 1)
+                if goal.args()[0]
+                    .as_compound(sym::LIBRARY, 1)
+                    .is_some_and(|l| l.args[0].kind == TermKind::Atom(sym::LISTS)) => {}
+            _ => {
+                let shown = self.show(goal);
+                let mut diagnostic =
+                    Diagnostic::warning(codes::IGNORED_DIRECTIVE, format!("directive `{shown}` ignored"))
+                        .primary(goal.span, "kbc reads KBs; it does not run directives");
+                if name == sym::MODULE || name == sym::USE_MODULE {
+                    diagnostic = diagnostic.with_note("modules are not supported: files are read as plain clauses");
+                }
+                self.diags
+                    .push(diagnostic.with_help("remove it, or see docs/dsl.md for the directives kbc understands"));
+            }
+        }
+    }
+
+    fn declarations(&mut self, kind: DeclarationKind, spec: &ast::Term) {
+        match &spec.kind {
+            TermKind::Compound(c) if c.functor == sym::COMMA && c.args.len() == 2 => {
+                self.declarations(kind, &c.args[0]);
+                self.declarations(kind, &c.args[1]);
+            }
+            TermKind::List(l) if l.tail.is_none() => l.items.iter().for_each(|item| self.declarations(kind, item)),
+            TermKind::Compound(c) if c.functor == sym::SLASH && c.args.len() == 2 => {
+                match (&c.args[0].kind, &c.args[1].kind) {
+                    (TermKind::Atom(name), TermKind::Int(arity)) if *arity >= 0 => {
+                        self.kb.declarations.push(Declaration {
+                            kind,
+                            name: *name,
+                            arity: *arity as usize,
+                            span: spec.span,
+                        });
+                    }
+                    _ => self.bad_declaration(spec),
+                }
+            }
+            _ => self.bad_declaration(spec),
+        }
+    }
+
+    fn bad_declaration(&mut self, spec: &ast::Term) {
+        let shown = self.show(spec);
+        self.diags.push(
+            Diagnostic::error(codes::BAD_DECLARATION, format!("expected `Name/Arity`, found `{shown}`"))
+                .primary(spec.span, "not a predicate indicator")
+                .with_help("write `:- dynamic ontable/3.`"),
+        );
+    }
+
+    fn rule(&mut self, head: &ast::Term, body: &ast::Term, span: Span) {
+        if let Some(go) = problem_call(body) {
+            self.head_site(head);
+            self.go_problem(head, go, span);
+            return;
+        }
+        if contains_go_call(body) {
+            self.diags.push(
+                Diagnostic::error(codes::BAD_PROBLEM, "a test's body must be a single `go(Init, Goal)`")
+                    .primary(body.span, "other goals beside `go/N`")
+                    .with_note("kbc reads `go/2`, `go/4` and `go/5` tests as problems; it does not run them")
+                    .with_help("write `name :- go([...], [...]).`"),
+            );
+            return;
+        }
+        if let Some((name, _)) = head.callable()
+            && matches!(
+                name,
+                sym::ACTION | sym::LL_ACTION | sym::MAPPING | sym::RESOURCES | sym::INIT_STATE | sym::GOAL_STATE
+            )
+        {
+            self.diags.push(
+                Diagnostic::error(
+                    codes::BAD_CLAUSE_HEAD,
+                    format!("`{}` must be a fact, not a rule", self.interner.resolve(name)),
+                )
+                .primary(head.name_span(), "defined by a rule")
+                .with_note("kbc reads these declarations as data; it does not run rules to produce them")
+                .with_help("write the declaration as a fact"),
+            );
+            return;
+        }
+        if !self.check_definable_head(head) {
+            return;
+        }
+        self.head_site(head);
+        let mut scope = Scope::default();
+        let head_literal = self.literal(head, &mut scope, "a clause head");
+        let goal = self.goal(body, &mut scope);
+        self.singletons(&scope, &[]);
+        if let (Some(head), Some(body)) = (head_literal, goal) {
+            self.kb.clauses.push(Clause { head, body: Some(Box::new(body)), vars: scope.table, span });
+        }
+    }
+
+    fn fact(&mut self, term: &ast::Term, span: Span) {
+        if !self.check_definable_head(term) {
+            return;
+        }
+        self.head_site(term);
+        let (name, arity) = term.callable().expect("checked by check_definable_head");
+        match (name, arity) {
+            (sym::ACTION, 6) => self.action(Level::High, term, span),
+            (sym::LL_ACTION, 6) => self.action(Level::Low, term, span),
+            (sym::ACTION | sym::LL_ACTION, n) => self.action_arity(term, n),
+            (sym::MAPPING, 2) => self.mapping(term, span),
+            (sym::RESOURCES, 1) => self.resource(term, span),
+            (sym::MAPPING | sym::RESOURCES, _) => {
+                let expected = if name == sym::MAPPING {
+                    "mapping(HighLevelStart, [ArmLevel, ...])"
+                } else {
+                    "resources(Template)"
+                };
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::BAD_DECLARATION,
+                        format!(
+                            "`{}` takes {}, found {arity}",
+                            self.interner.resolve(name),
+                            plural(if name == sym::MAPPING { 2 } else { 1 }, "argument")
+                        ),
+                    )
+                    .primary(term.name_span(), "wrong number of arguments")
+                    .with_help(format!("write `{expected}`")),
+                );
+            }
+            (sym::INIT_STATE, 1) | (sym::GOAL_STATE, 1) => self.state_fact(name, term, span),
+            _ => {
+                let mut scope = Scope::default();
+                let head = self.literal(term, &mut scope, "a fact");
+                self.singletons(&scope, &[]);
+                if let Some(head) = head {
+                    self.kb.clauses.push(Clause { head, body: None, vars: scope.table, span });
+                }
+            }
+        }
+    }
+
+    /// Reports heads that cannot be defined; returns false for them.
+    fn check_definable_head(&mut self, head: &ast::Term) -> bool {
+        let Some((name, arity)) = head.callable() else {
+            let found = describe_non_callable(head);
+            self.diags.push(
+                Diagnostic::error(codes::NOT_CALLABLE, format!("expected a clause head, found {found}"))
+                    .primary(head.span, "a clause must start with an atom or compound term"),
+            );
+            return false;
+        };
+        if !is_control_or_iso_builtin(name, arity) {
+            return true;
+        }
+        if name == sym::COMMA && self.ends_line(head.name_span()) {
+            // `a(1),\nb(2).` reads as one clause `(a(1), b(2))`: a `,` typed for a `.`.
+            let comma = head.name_span();
+            let shown = self.show(head);
+            self.diags.push(
+                Diagnostic::error(codes::MISSING_PERIOD, "missing `.` at the end of the clause")
+                    .primary(comma, "this `,` should be `.`")
+                    .with_note(format!("with the `,` the two clauses read as one term `{shown}`"))
+                    .with_fix("replace the `,` with `.`", comma, ".")
+                    .with_help("end the clause with `.`"),
+            );
+            return false;
+        }
+        let indicator = format!("{}/{arity}", self.interner.resolve(name));
+        self.diags.push(
+            Diagnostic::error(codes::BAD_CLAUSE_HEAD, format!("cannot redefine the built-in `{indicator}`"))
+                .primary(head.name_span(), "a built-in cannot be defined by clauses")
+                .with_help("choose another name for the predicate"),
+        );
+        false
+    }
+
+    /// True if only layout and comments follow `span` up to the end of its line.
+    fn ends_line(&self, span: Span) -> bool {
+        let text = self.db.text(span.file);
+        let rest = &text[span.end as usize..];
+        let line = rest.split('\n').next().unwrap_or("");
+        let code = line.split('%').next().unwrap_or("");
+        code.trim().is_empty()
+    }
+
+    fn action_arity(&mut self, term: &ast::Term, arity: usize) {
+        let name = self.interner.resolve(term.callable().map_or(sym::ACTION, |c| c.0)).to_string();
+        let mut diagnostic =
+            Diagnostic::error(codes::ACTION_ARITY, format!("`{name}` takes 6 arguments, found {arity}"))
+                .primary(term.name_span(), format!("{name}/{arity}"))
+                .with_note(format!("an action is {name}(Name, Valid, Invalid, InvalidAtEnd, OnKB, Effects)"));
+        if arity == 5 {
+            // Older KBs have no OnKB slot: insert `[]` before the effects.
+            let effects = &term.args()[4];
+            diagnostic = diagnostic
+                .with_fix(
+                    "add an empty OnKB slot before the effects",
+                    Span::point(effects.span.file, effects.span.start),
+                    "[], ",
+                )
+                .with_help("older KBs omit the OnKB list: add `[]` as the fifth argument");
+        }
+        self.diags.push(diagnostic);
+        self.record_recovered_names(term);
+    }
+
+    fn action(&mut self, level: Level, term: &ast::Term, span: Span) {
+        let args = term.args();
+        let mut scope = Scope::default();
+        let slots: [Span; 6] = std::array::from_fn(|i| args[i].span);
+        let Some(name) = self.literal(&args[0], &mut scope, "an action name") else {
+            self.record_recovered_names(term);
+            return;
+        };
+        let name_text = self.interner.resolve(name.name()).to_string();
+        let mut ok = true;
+        let mut condition_lists: [Vec<Literal>; 3] = Default::default();
+        for (slot, list) in condition_lists.iter_mut().enumerate() {
+            let slot_name = SLOT_NAMES[slot + 1];
+            match self.list(&args[slot + 1], || format!("the {slot_name} slot of `{name_text}`")) {
+                Some(items) => {
+                    for item in items {
+                        match self.literal(item, &mut scope, &format!("a {slot_name} literal")) {
+                            Some(literal) => list.push(literal),
+                            None => ok = false,
+                        }
+                    }
+                }
+                None => ok = false,
+            }
+        }
+        let on_kb_items = self.list(&args[4], || format!("the OnKB slot of `{name_text}`"));
+        let effect_items = self.list(&args[5], || format!("the Effects slot of `{name_text}`"));
+        let swapped = on_kb_items.is_some_and(|items| !items.is_empty() && items.iter().all(is_effect_term))
+            && effect_items.is_some_and(|items| !items.is_empty() && !items.iter().all(is_effect_term));
+        let mut on_kb = Vec::new();
+        match on_kb_items {
+            Some(items) if swapped => {
+                // Reported below with the effects; lower the variables for singleton checks.
+                for item in items {
+                    self.term(item, &mut scope);
+                }
+                ok = false;
+            }
+            Some(items) => {
+                for item in items {
+                    match self.goal(item, &mut scope) {
+                        Some(goal) => on_kb.push(goal),
+                        None => ok = false,
+                    }
+                }
+            }
+            None => ok = false,
+        }
+        let mut effects = Vec::new();
+        match effect_items {
+            Some(_) if swapped => {
+                let (on_kb_span, effects_span) = (args[4].span, args[5].span);
+                let effects_text = term_to_string(self.interner, &args[4]);
+                let on_kb_text = term_to_string(self.interner, &args[5]);
+                self.diags.push(
+                    Diagnostic::error(codes::BAD_EFFECT, format!("the OnKB and Effects slots of `{name_text}` look swapped"))
+                        .primary(effects_span, "these are conditions, not `add`/`del` effects")
+                        .secondary(on_kb_span, "and these are effects")
+                        .with_note("kbc reads action(Name, Valid, Invalid, InvalidAtEnd, OnKB, Effects); some older KBs put Effects fifth")
+                        .with_fix_edits(
+                            "swap the two slots",
+                            vec![Edit { span: on_kb_span, replacement: on_kb_text }, Edit { span: effects_span, replacement: effects_text }],
+                        )
+                        .with_help("swap the fifth and sixth arguments"),
+                );
+                for item in args[5].args() {
+                    self.term(item, &mut scope);
+                }
+            }
+            Some(items) => {
+                for item in items {
+                    match self.effect(item, &mut scope) {
+                        Some(effect) => effects.push(effect),
+                        None => ok = false,
+                    }
+                }
+            }
+            None => ok = false,
+        }
+        // A variable that occurs once, in an effect, is unbound: `check` reports that error.
+        self.singletons(&scope, &[slots[5]]);
+        if !ok {
+            self.record_recovered_names(term);
+            return;
+        }
+        let (base, snap) = split_snap(self.interner, name.name());
+        let [valid, invalid, invalid_at_end] = condition_lists;
+        self.kb.actions.push(Action {
+            level,
+            name,
+            base,
+            snap,
+            valid,
+            invalid,
+            invalid_at_end,
+            on_kb,
+            effects,
+            vars: scope.table,
+            span,
+            slots,
+        });
+    }
+
+    fn effect(&mut self, t: &ast::Term, scope: &mut Scope) -> Option<Effect> {
+        let kind = match t.callable() {
+            Some((sym::ADD, 1)) => Some(EffectKind::Add),
+            Some((sym::DEL, 1)) => Some(EffectKind::Del),
+            _ => None,
+        };
+        let Some(kind) = kind else {
+            let found = self.show(t);
+            let mut diagnostic =
+                Diagnostic::error(codes::BAD_EFFECT, format!("expected `add(L)` or `del(L)`, found `{found}`"))
+                    .primary(t.span, "not an effect");
+            let replacement = match t.callable().map(|(n, a)| (self.interner.resolve(n).to_string(), a)) {
+                Some((n, 1)) if matches!(n.as_str(), "assert" | "assertz" | "asserta" | "insert" | "plus") => {
+                    Some("add")
+                }
+                Some((n, 1)) if matches!(n.as_str(), "retract" | "delete" | "remove" | "minus" | "rem") => Some("del"),
+                _ => None,
+            };
+            if let Some(replacement) = replacement {
+                diagnostic = diagnostic
+                    .with_fix(format!("write `{replacement}`"), t.name_span(), replacement)
+                    .with_help(format!("effects are written `{replacement}(...)`"));
+            } else if t.callable().is_some_and(|(n, a)| matches!(n, sym::ADD | sym::DEL) && a != 1) {
+                diagnostic =
+                    diagnostic.with_help("`add` and `del` take exactly one literal: write one effect per literal");
+            } else {
+                diagnostic = diagnostic.with_help(format!("to add the fact, write `add({found})`"));
+            }
+            self.diags.push(diagnostic);
+            return None;
+        };
+        let literal = self.literal(&t.args()[0], scope, "a literal to add or delete")?;
+        Some(Effect { kind, literal, span: t.span })
+    }
+
+    fn mapping(&mut self, term: &ast::Term, span: Span) {
+        let args = term.args();
+        let mut scope = Scope::default();
+        let high = self.literal(&args[0], &mut scope, "a high-level action start");
+        let mut steps = Vec::new();
+        let mut ok = high.is_some();
+        match self.list(&args[1], || "the arm-level steps of a mapping".to_string()) {
+            Some(items) => {
+                if items.is_empty() {
+                    self.diags.push(
+                        Diagnostic::error(codes::BAD_DECLARATION, "a mapping needs at least one arm-level step")
+                            .primary(args[1].span, "no steps")
+                            .with_help("list the `ll_action`s the high-level action is refined into"),
+                    );
+                    ok = false;
+                }
+                for item in items {
+                    match self.literal(item, &mut scope, "an arm-level action") {
+                        Some(l) => steps.push(l),
+                        None => ok = false,
+                    }
+                }
+            }
+            None => ok = false,
+        }
+        self.singletons(&scope, &[]);
+        if let (true, Some(high)) = (ok, high) {
+            self.kb.mappings.push(Mapping { high, steps, vars: scope.table, span });
+        }
+    }
+
+    fn resource(&mut self, term: &ast::Term, span: Span) {
+        let mut scope = Scope::default();
+        if let Some(template) = self.literal(&term.args()[0], &mut scope, "a resource template such as `agent(_)`") {
+            self.kb.resources.push(Resource { template, vars: scope.table, span });
+        }
+    }
+
+    // ---- problems -------------------------------------------------------------------------
+
+    fn go_problem(&mut self, head: &ast::Term, go: &ast::Term, span: Span) {
+        let Some((name, _)) = head.callable() else {
+            self.check_definable_head(head);
+            return;
+        };
+        let args = go.args();
+        let mut scope = Scope::default();
+        // Head arguments (`test1(Actions, Times)`) share variables with go/4's outputs.
+        for arg in head.args() {
+            self.term(arg, &mut scope);
+        }
+        let init = self.state_list(&args[0], &mut scope, "the initial state");
+        let goal = self.state_list(&args[1], &mut scope, "the goal state");
+        for arg in args.iter().skip(2).take(2) {
+            self.term(arg, &mut scope);
+        }
+        let mut max_depth = None;
+        if args.len() == 5 {
+            match args[4].kind {
+                TermKind::Int(depth) if depth > 0 && depth <= u32::MAX as i64 => max_depth = Some(depth as u32),
+                _ => {
+                    let found = self.show(&args[4]);
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::BAD_PROBLEM,
+                            format!("expected a positive integer depth limit, found `{found}`"),
+                        )
+                        .primary(args[4].span, "the fifth argument of `go/5` is the maximum plan depth")
+                        .with_help("write a number such as `25`"),
+                    );
+                }
+            }
+        }
+        let quiet: Vec<Span> = init.iter().flatten().filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
+        self.singletons(&scope, &quiet);
+        let (Some(init), Some(goal)) = (init, goal) else { return };
+        let init = self.ground_init(init, &scope);
+        self.add_problem(Problem {
+            name,
+            name_span: head.name_span(),
+            init,
+            goal,
+            max_depth,
+            form: ProblemForm::Go(args.len() as u8),
+            vars: scope.table,
+            span,
+        });
+    }
+
+    fn state_list(&mut self, t: &ast::Term, scope: &mut Scope, what: &str) -> Option<Vec<Literal>> {
+        let items = self.list(t, || what.to_string())?;
+        let mut literals = Vec::with_capacity(items.len());
+        let mut ok = true;
+        for item in items {
+            match self.literal(item, scope, "a fact") {
+                Some(l) => literals.push(l),
+                None => ok = false,
+            }
+        }
+        ok.then_some(literals)
+    }
+
+    /// Keeps the ground init facts and reports the others.
+    fn ground_init(&mut self, init: Vec<Literal>, scope: &Scope) -> Vec<Literal> {
+        let mut ground = Vec::with_capacity(init.len());
+        for literal in init {
+            if literal.term.is_ground() {
+                ground.push(literal);
+                continue;
+            }
+            let mut diagnostic = Diagnostic::error(codes::NON_GROUND_INIT, "an initial state fact must be ground")
+                .primary(literal.span, "this fact has a variable");
+            let mut seen = Vec::new();
+            literal.term.for_each_var(&mut |v| seen.push(v));
+            for v in seen {
+                let info = scope.table.get(v);
+                if let Some(&at) =
+                    info.occurrences.iter().find(|s| literal.span.start <= s.start && s.end <= literal.span.end)
+                {
+                    let name = self.interner.resolve(info.name);
+                    diagnostic = diagnostic.secondary(at, format!("`{name}` is a variable"));
+                }
+            }
+            self.diags.push(
+                diagnostic
+                    .with_note("the initial state lists what is true, so every argument must be known")
+                    .with_help("replace the variable with a value; atoms start with a lower-case letter"),
+            );
+        }
+        ground
+    }
+
+    fn add_problem(&mut self, problem: Problem) {
+        if let Some(previous) = self.kb.problem(problem.name) {
+            let name = self.interner.resolve(problem.name);
+            self.diags.push(
+                Diagnostic::error(codes::BAD_PROBLEM, format!("problem `{name}` is defined more than once"))
+                    .primary(problem.name_span, "defined again here")
+                    .secondary(previous.name_span, "first defined here")
+                    .with_help("give each problem its own name"),
+            );
+            return;
+        }
+        self.kb.problems.push(problem);
+    }
+
+    fn state_fact(&mut self, name: Symbol, term: &ast::Term, span: Span) {
+        let file = span.file;
+        let index = match self.state_files.iter().position(|s| s.file == file) {
+            Some(i) => i,
+            None => {
+                self.state_files.push(StateFile { file, init: None, goal: None, scope: Scope::default() });
+                self.state_files.len() - 1
+            }
+        };
+        let what = if name == sym::INIT_STATE { "the initial state" } else { "the goal state" };
+        let mut scope = std::mem::take(&mut self.state_files[index].scope);
+        let list = self.state_list(&term.args()[0], &mut scope, what);
+        let entry = &mut self.state_files[index];
+        entry.scope = scope;
+        let slot = if name == sym::INIT_STATE { &mut entry.init } else { &mut entry.goal };
+        if let Some((_, first)) = slot {
+            let first = *first;
+            let text = self.interner.resolve(name).to_string();
+            self.diags.push(
+                Diagnostic::error(codes::BAD_PROBLEM, format!("`{text}` is given more than once in this file"))
+                    .primary(term.name_span(), "given again here")
+                    .secondary(first, "first given here")
+                    .with_help("put one problem per file, or name them: `test1 :- go(Init, Goal).`"),
+            );
+            return;
+        }
+        if let Some(list) = list {
+            *slot = Some((list, term.name_span()));
+        }
+    }
+
+    fn finish_init_goal_states(&mut self) {
+        for state in std::mem::take(&mut self.state_files) {
+            let stem = std::path::Path::new(self.db.file(state.file).name())
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("problem")
+                .to_string();
+            match (state.init, state.goal) {
+                (Some((init, init_span)), Some((goal, goal_span))) => {
+                    let quiet: Vec<Span> = init.iter().filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
+                    self.singletons(&state.scope, &quiet);
+                    let init = self.ground_init(init, &state.scope);
+                    let name = self.interner.intern(&stem);
+                    self.add_problem(Problem {
+                        name,
+                        name_span: init_span,
+                        init,
+                        goal,
+                        max_depth: None,
+                        form: ProblemForm::InitGoalState,
+                        vars: state.scope.table,
+                        span: init_span.to(goal_span),
+                    });
+                }
+                (Some((_, span)), None) => self.incomplete_problem(span, "goal_state"),
+                (None, Some((_, span))) => self.incomplete_problem(span, "init_state"),
+                (None, None) => {}
+            }
+        }
+    }
+
+    fn incomplete_problem(&mut self, span: Span, missing: &str) {
+        let present = if missing == "goal_state" { "init_state" } else { "goal_state" };
+        self.diags.push(
+            Diagnostic::error(codes::INCOMPLETE_PROBLEM, format!("`{present}` without `{missing}`"))
+                .primary(span, format!("this file has no `{missing}`"))
+                .with_note("a problem needs both an initial state and a goal state")
+                .with_help(format!("add `{missing}([...]).` to this file")),
+        );
+    }
+
+    // ---- variables ------------------------------------------------------------------------
+
+    /// SWI-Prolog's variable warnings for one clause. Variables inside `quiet` spans are left
+    /// out of the singleton warning because an error already covers them (a variable in an
+    /// init fact, an effect variable nothing binds).
+    fn singletons(&mut self, scope: &Scope, quiet: &[Span]) {
+        let mut singles = Vec::new();
+        for info in &scope.table.vars {
+            if info.occurrences.iter().all(|at| quiet.iter().any(|q| q.start <= at.start && at.end <= q.end)) {
+                continue;
+            }
+            let name = self.interner.resolve(info.name);
+            if name == "_" {
+                continue;
+            }
+            if name.starts_with('_') {
+                if info.occurrences.len() > 1 {
+                    let mut diagnostic = Diagnostic::warning(
+                        codes::MARKED_SINGLETON_REUSED,
+                        format!("variable `{name}` is marked unused but appears {} times", info.occurrences.len()),
+                    )
+                    .primary(info.occurrences[0], "the `_` prefix says it is used once");
+                    for &at in &info.occurrences[1..] {
+                        diagnostic = diagnostic.secondary(at, "used again here");
+                    }
+                    let plain = name.trim_start_matches('_');
+                    let help = if plain.is_empty() || !plain.as_bytes()[0].is_ascii_uppercase() {
+                        "drop the leading `_` and start the name with an upper-case letter".to_string()
+                    } else {
+                        format!("rename it `{plain}`")
+                    };
+                    self.diags.push(diagnostic.with_help(help));
+                }
+            } else if info.occurrences.len() == 1 {
+                singles.push((name.to_string(), info.occurrences[0]));
+            }
+        }
+        if singles.is_empty() {
+            return;
+        }
+        let names: Vec<String> = singles.iter().map(|(n, _)| format!("`{n}`")).collect();
+        let message = if singles.len() == 1 {
+            format!("singleton variable {}", names[0])
+        } else {
+            format!("singleton variables {}", join_and(&names))
+        };
+        let mut diagnostic = Diagnostic::warning(codes::SINGLETON_VARIABLE, message);
+        for (i, (_, at)) in singles.iter().enumerate() {
+            diagnostic = if i == 0 {
+                diagnostic.primary(*at, "used only once")
+            } else {
+                diagnostic.secondary(*at, "used only once")
+            };
+        }
+        let edits = singles.iter().map(|(n, at)| Edit { span: *at, replacement: format!("_{n}") }).collect();
+        self.diags.push(
+            diagnostic
+                .with_note("a variable used once binds nothing; it is often a misspelling of another variable")
+                .with_fix_edits("mark as intentionally unused", edits)
+                .with_help(if singles.len() == 1 {
+                    format!("if it is meant to be unused, write `_{}`", singles[0].0)
+                } else {
+                    "if they are meant to be unused, start their names with `_`".to_string()
+                }),
+        );
+    }
+}
+
+/// "1 argument", "2 arguments".
+pub fn plural(n: usize, word: &str) -> String {
+    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
+}
+
+/// Joins `a`, `b` and `c` as "a, b and c".
+pub fn join_and(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
+fn describe_non_callable(t: &ast::Term) -> String {
+    match &t.kind {
+        TermKind::Var(_) => "a variable".to_string(),
+        TermKind::Int(i) => format!("the number `{i}`"),
+        TermKind::Float(f) => format!("the number `{f}`"),
+        TermKind::Str(_) => "a string".to_string(),
+        TermKind::List(_) => "a list".to_string(),
+        _ => "a term".to_string(),
+    }
+}
+
+fn is_effect_term(t: &ast::Term) -> bool {
+    matches!(t.callable(), Some((sym::ADD | sym::DEL, 1)))
+}
+
+/// The `go/2`, `go/4` or `go/5` call if `body` is exactly one.
+fn problem_call(body: &ast::Term) -> Option<&ast::Term> {
+    match body.callable() {
+        Some((sym::GO, 2 | 4 | 5)) => Some(body),
+        _ => None,
+    }
+}
+
+fn contains_go_call(t: &ast::Term) -> bool {
+    match &t.kind {
+        TermKind::Compound(c) if matches!(c.functor, sym::COMMA | sym::SEMI | sym::ARROW) => {
+            c.args.iter().any(contains_go_call)
+        }
+        _ => matches!(t.callable(), Some((sym::GO, 2 | 4 | 5))),
+    }
+}
+
+/// `grip_start` is the start of `grip`; `grip_end` its end; `wait` is instantaneous.
+pub fn split_snap(interner: &mut Interner, name: Symbol) -> (Symbol, Snap) {
+    let text = interner.resolve(name);
+    if let Some(base) = text.strip_suffix("_start").filter(|b| !b.is_empty()) {
+        let base = base.to_string();
+        (interner.intern(&base), Snap::Start)
+    } else if let Some(base) = text.strip_suffix("_end").filter(|b| !b.is_empty()) {
+        let base = base.to_string();
+        (interner.intern(&base), Snap::End)
+    } else {
+        (name, Snap::Instant)
+    }
+}

@@ -1,0 +1,13 @@
+//! Compiler passes, one file each: a pass takes the previous stage's data and a diagnostics
+//! sink and returns the next stage's data. The order they run in is written once, in
+//! `crate::driver`.
+//!
+//! - [`load`]: files and their includes to parsed clauses in program order;
+//! - [`lower`]: clauses to the resolved KB (HIR);
+//! - [`check`]: whole-KB checks on the HIR.
+//!
+//! No pass does IO: included files arrive through a [`load::SourceLoader`].
+
+pub mod check;
+pub mod load;
+pub mod lower;

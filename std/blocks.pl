@@ -1,0 +1,110 @@
+% std/blocks.pl: the multi-arm blocks world of Saccon et al., "When Prolog meets generative
+% models" (the paper kbc implements), written in kbc's KB language.
+%
+% kbc uses this file as the domain when the files it is given declare no action schema, so a
+% goal file with the paper's tests (`test1 :- go(Init, Goal).`) is enough to plan.
+%
+% Blocks stand on the cells of a table, in stacks. Arms (the `available/1` facts of the initial
+% state) grip a clear block, move it to another cell (onto the table or onto the top of the
+% stack there), and release it. Each step is a durative action, a `_start`/`_end` pair, so the
+% planner can run several arms at once. Every step consumes the fluent the previous one
+% produced, which keeps the KB correct under the paper's planner too (it has no other way of
+% knowing that an action has started).
+%
+% State fluents:
+%   available(A)                 arm A is idle
+%   ontable(B, X, Y)             block B stands on the table at cell (X, Y)
+%   on(B, B1, X, Y)              block B stands on block B1, in the stack at cell (X, Y)
+%   clear(B)                     nothing stands on B and no arm holds it
+%   gripping(A, B)               arm A is closing its gripper on B
+%   gripped(A, B)                arm A holds B where it stood
+%   moving(A, B, X1, Y1, X2, Y2) arm A carries B from cell (X1, Y1) to cell (X2, Y2)
+%   placed(A, B)                 arm A has put B down and still holds it
+%   releasing(A, B)              arm A is opening its gripper on B
+
+% The arms are the `available/1` facts of the initial state.
+resources(available(_)).
+
+% pos(X, Y): a cell of the table. A goal file declares its table with cell(X, Y) facts; without
+% any, the table is the 5 x 5 grid the paper's examples use.
+:- dynamic cell/2.
+pos(X, Y) :- cell(X, Y).
+pos(X, Y) :- \+ cell(_, _), member(X, [1, 2, 3, 4, 5]), member(Y, [1, 2, 3, 4, 5]).
+
+% grip: close the gripper on a clear block. The InvalidAtEnd lists keep a block that already
+% stands where the goal wants it from being picked up, as the paper's KB does.
+action(grip_start(A, B),
+    [available(A), ontable(B, X, Y), clear(B)],
+    [gripping(_, B), gripped(_, B)],
+    [ontable(B, X, Y)],
+    [],
+    [del(available(A)), add(gripping(A, B))]).
+action(grip_start(A, B),
+    [available(A), on(B, B1, X, Y), clear(B)],
+    [gripping(_, B), gripped(_, B)],
+    [on(B, B1, X, Y)],
+    [],
+    [del(available(A)), add(gripping(A, B))]).
+action(grip_end(A, B),
+    [gripping(A, B)],
+    [],
+    [],
+    [],
+    [del(gripping(A, B)), del(clear(B)), add(gripped(A, B))]).
+
+% move_block: lift the held block off its support and carry it to another cell.
+action(move_block_start(A, B, X1, Y1, X2, Y2),
+    [gripped(A, B), ontable(B, X1, Y1)],
+    [],
+    [],
+    [pos(X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
+    [del(gripped(A, B)), del(ontable(B, X1, Y1)), add(moving(A, B, X1, Y1, X2, Y2))]).
+action(move_block_start(A, B, X1, Y1, X2, Y2),
+    [gripped(A, B), on(B, B1, X1, Y1)],
+    [],
+    [],
+    [pos(X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
+    [del(gripped(A, B)), del(on(B, B1, X1, Y1)), add(clear(B1)), add(moving(A, B, X1, Y1, X2, Y2))]).
+% Arriving at an empty cell, the block stands on the table.
+action(move_block_end(A, B, X1, Y1, X2, Y2),
+    [moving(A, B, X1, Y1, X2, Y2)],
+    [ontable(_, X2, Y2)],
+    [],
+    [],
+    [del(moving(A, B, X1, Y1, X2, Y2)), add(ontable(B, X2, Y2)), add(placed(A, B))]).
+% Arriving at a stack, the block goes on its top block, which must be clear and not being gripped.
+action(move_block_end(A, B, X1, Y1, X2, Y2),
+    [moving(A, B, X1, Y1, X2, Y2), ontable(B2, X2, Y2), clear(B2)],
+    [gripping(_, B2)],
+    [],
+    [],
+    [del(moving(A, B, X1, Y1, X2, Y2)), del(clear(B2)), add(on(B, B2, X2, Y2)), add(placed(A, B))]).
+action(move_block_end(A, B, X1, Y1, X2, Y2),
+    [moving(A, B, X1, Y1, X2, Y2), on(B2, _, X2, Y2), clear(B2)],
+    [gripping(_, B2)],
+    [],
+    [],
+    [del(moving(A, B, X1, Y1, X2, Y2)), del(clear(B2)), add(on(B, B2, X2, Y2)), add(placed(A, B))]).
+
+% release: open the gripper; the arm is free again and the block is clear.
+action(release_start(A, B),
+    [placed(A, B)],
+    [],
+    [],
+    [],
+    [del(placed(A, B)), add(releasing(A, B))]).
+action(release_end(A, B),
+    [releasing(A, B)],
+    [],
+    [],
+    [],
+    [del(releasing(A, B)), add(available(A)), add(clear(B))]).
+
+% Durations, in time units: bounds on end minus start. Moving takes one unit per cell of
+% Manhattan distance plus one to lift and lower, and at most twice that.
+duration(grip(_, _), 1, 2).
+duration(move_block(_, _, X1, Y1, X2, Y2), Min, Max) :-
+    D is abs(X2 - X1) + abs(Y2 - Y1),
+    Min is D + 1,
+    Max is 2 * D + 2.
+duration(release(_, _), 1, 2).
