@@ -1,0 +1,67 @@
+//! Every example checks clean: no errors and no warnings. The top-level `.pl` files of each
+//! `examples/NN_name/` directory are checked together, as `kbc check DIR/*.pl` would.
+
+use std::path::{Path, PathBuf};
+
+use kbc::cli::FsLoader;
+use kbc::diag::render;
+use kbc::source::SourceDb;
+
+fn example_dirs() -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir("examples")
+        .expect("examples/ exists")
+        .map(|e| e.expect("readable entry").path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
+fn roots(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("readable example")
+        .map(|e| e.expect("readable entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "pl"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_example_checks_clean() {
+    let dirs = example_dirs();
+    assert!(dirs.len() >= 5, "expected the numbered examples, found {dirs:?}");
+    for dir in dirs {
+        let mut db = SourceDb::new();
+        let ids: Vec<_> = roots(&dir)
+            .iter()
+            .map(|p| {
+                let text = std::fs::read_to_string(p).expect("readable example file");
+                db.add(p.display().to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
+            })
+            .collect();
+        assert!(!ids.is_empty(), "{} has no .pl file", dir.display());
+        let frontend = kbc::driver::frontend(&mut db, &ids, &mut FsLoader);
+        let problems: Vec<_> = frontend.diagnostics.iter().filter(|d| d.code.is_some()).collect();
+        assert!(
+            problems.is_empty(),
+            "{} does not check clean:\n{}",
+            dir.display(),
+            render::all_to_string(&db, &frontend.diagnostics)
+        );
+        assert!(!frontend.kb.problems.is_empty(), "{} defines no problem", dir.display());
+    }
+}
+
+#[test]
+fn the_paper_tests_use_the_standard_domain_and_keep_their_names() {
+    let path = Path::new("examples/01_paper_tests/tests.pl");
+    let mut db = SourceDb::new();
+    let id = db.add(path.display().to_string(), None, std::fs::read_to_string(path).expect("readable"));
+    let frontend = kbc::driver::frontend(&mut db, &[id], &mut FsLoader);
+    assert!(frontend.kb.uses_std_domain);
+    let names: Vec<&str> = frontend.kb.problems.iter().map(|p| frontend.interner.resolve(p.name)).collect();
+    assert_eq!(names, ["test1", "test2", "test3"]);
+    let test3 = &frontend.kb.problems[2];
+    assert_eq!((test3.init.len(), test3.goal.len()), (8, 7));
+}

@@ -1,0 +1,1 @@
+:- include('aux/cycle_b.pl').

@@ -1,0 +1,2 @@
+:- include('actions.pl').
+block(b1).

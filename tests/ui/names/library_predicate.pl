@@ -1,0 +1,1 @@
+report(X) :- format("~w~n", [X]).

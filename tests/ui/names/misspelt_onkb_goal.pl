@@ -1,0 +1,4 @@
+action(move_start(A, X), [available(A)], [], [], [cel(X)], [del(available(A)), add(moving(A, X))]).
+action(move_end(A, X), [moving(A, X)], [], [], [], [del(moving(A, X)), add(at(A, X)), add(available(A))]).
+cell(1).
+cell(2).

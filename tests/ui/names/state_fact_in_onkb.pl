@@ -1,0 +1,2 @@
+action(push(A), [], [], [], [available(A)], [del(available(A)), add(pushed(A))]).
+test1 :- go([available(a1)], [pushed(a1)]).

@@ -1,0 +1,2 @@
+action(push(A), [available(A)], [], [], [], [add(pushed(A))]) :- arm(A).
+arm(a1).

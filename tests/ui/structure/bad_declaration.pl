@@ -1,0 +1,2 @@
+:- dynamic ontable.
+mapping(grip_start(_, _)).

@@ -1,0 +1,1 @@
+action(push(A), [available(A)], [], [], [], [retract(available(A)), assert(busy(A))]).

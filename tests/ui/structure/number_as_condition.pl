@@ -1,0 +1,1 @@
+action(wait(A), [available(A), 42], [], [], [], [add(rested(A))]).

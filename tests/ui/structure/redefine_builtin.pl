@@ -1,0 +1,2 @@
+true.
+X = X :- fail.

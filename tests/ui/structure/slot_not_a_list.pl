@@ -1,0 +1,1 @@
+action(push(A), available(A), [], [], [], [del(available(A))]).

@@ -1,0 +1,1 @@
+action(push(A), [available(A)|Rest], [], [], [], [del(available(A))]).

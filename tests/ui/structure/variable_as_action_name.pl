@@ -1,0 +1,1 @@
+action(Name, [available(a1)], [], [], [], [add(done(Name))]).

@@ -1,0 +1,2 @@
+test1 :- go([available(a1), Ontable(b1, 1, 1), clear(b1)],
+            [available(a1), ontable(b1, 2, 2), clear(b1)]).

@@ -1,0 +1,1 @@
+config({arms: 2}).

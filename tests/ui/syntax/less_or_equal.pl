@@ -1,0 +1,1 @@
+near(X, Y) :- D is abs(X - Y), D <= 1.

@@ -1,0 +1,2 @@
+block(b1).
+block(b2)

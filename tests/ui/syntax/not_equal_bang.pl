@@ -1,0 +1,1 @@
+different(X, Y) :- X != Y.

@@ -1,0 +1,1 @@
+before(X, Y) :- X @< Y.

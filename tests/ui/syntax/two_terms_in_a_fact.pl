@@ -1,0 +1,1 @@
+block(b1) block(b2).

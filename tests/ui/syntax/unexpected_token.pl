@@ -1,0 +1,1 @@
+double(X, Y) :- Y is X * .

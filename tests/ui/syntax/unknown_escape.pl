@@ -1,0 +1,1 @@
+label(b1, 'red\qblock').

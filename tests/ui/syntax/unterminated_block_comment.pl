@@ -1,0 +1,3 @@
+block(b1).
+/* the blocks of the second table
+block(b2).

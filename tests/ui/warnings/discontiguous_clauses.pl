@@ -1,0 +1,3 @@
+block(b1).
+cell(1, 1).
+block(b2).

@@ -1,0 +1,3 @@
+:- initialization(main).
+:- use_module(library(lists)).
+block(b1).

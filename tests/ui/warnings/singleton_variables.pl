@@ -1,0 +1,1 @@
+adjacent(X, Y, Z) :- Y is X + 1.

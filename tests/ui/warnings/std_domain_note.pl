@@ -1,0 +1,3 @@
+% A goal file alone: kbc uses std/blocks.pl as the domain.
+test1 :- go([available(a1), ontable(b1, 1, 1), clear(b1)],
+            [available(a1), ontable(b1, 2, 2), clear(b1)]).
