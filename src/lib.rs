@@ -15,6 +15,7 @@ pub mod builtins;
 pub mod cli;
 pub mod diag;
 pub mod driver;
+pub mod engine;
 pub mod intern;
 pub mod ir;
 pub mod passes;

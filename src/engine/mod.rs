@@ -1,0 +1,901 @@
+//! The Prolog resolution engine: proves OnKB goals, `duration/3` and the KB's rules.
+//!
+//! SLD resolution with clause order, backtracking and cut, over a program compiled from the
+//! HIR's static clauses (plus, while planning a problem, the facts of its goal). The built-ins
+//! are those of `crate::builtins`: unification and identity, arithmetic with `is` and the six
+//! comparisons, `\+`, `,`, `;`, `->`, `true`, `fail`, `!`, and `member/2` (a library
+//! predicate a KB may redefine).
+//!
+//! # Design
+//!
+//! Terms live in one heap of [`Cell`]s, as in the WAM: a variable is a cell that refers to
+//! itself until bound, a compound is a `Functor` header followed by its arguments. Clauses are
+//! stored as position-independent cell templates and copied onto the heap when used (structure
+//! copying), which renames their variables. Bindings are trailed; a choicepoint records the
+//! heap, trail and continuation lengths, and backtracking truncates all three, so nothing is
+//! allocated per goal. The continuation (the goals still to prove) is a linked list stored in a
+//! vector, shared by choicepoints and truncated on backtracking too.
+//!
+//! Every query runs under a step budget: running out is an [`EngineError`], which callers
+//! turn into a diagnostic, never a hang.
+
+mod arith;
+
+use rustc_hash::FxHashMap;
+
+use crate::intern::{Symbol, sym};
+use crate::ir::hir::{self, Goal, Kb, Literal, Term, VarId};
+
+/// One heap cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cell {
+    /// A reference to heap cell `i`; the cell at `i` refers to itself when unbound.
+    Ref(u32),
+    /// An atom.
+    Atom(Symbol),
+    /// An integer.
+    Int(i64),
+    /// A float.
+    Float(f64),
+    /// A string.
+    Str(Symbol),
+    /// A compound whose header is at heap index `i`.
+    Struct(u32),
+    /// A compound's header: functor and arity; the arguments follow it.
+    Functor(Symbol, u32),
+}
+
+/// Why a query stopped without finishing.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EngineError {
+    /// The step budget ran out.
+    Budget {
+        /// The budget that ran out.
+        steps: u64,
+    },
+    /// A goal or arithmetic needed a bound value and found a variable.
+    Instantiation {
+        /// What needed it, e.g. "`is/2`".
+        context: String,
+    },
+    /// A value of the wrong type, e.g. an atom in arithmetic.
+    Type {
+        /// What was expected, e.g. "a number".
+        expected: &'static str,
+        /// What was found, printed.
+        found: String,
+    },
+    /// Division by zero.
+    ZeroDivisor,
+    /// A goal that is not callable (a number, say).
+    NotCallable {
+        /// The goal, printed.
+        found: String,
+    },
+}
+
+impl std::fmt::Display for EngineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EngineError::Budget { steps } => write!(f, "the query ran out of its budget of {steps} resolution steps"),
+            EngineError::Instantiation { context } => write!(f, "{context} needs a bound value but found a variable"),
+            EngineError::Type { expected, found } => write!(f, "expected {expected}, found `{found}`"),
+            EngineError::ZeroDivisor => write!(f, "division by zero"),
+            EngineError::NotCallable { found } => write!(f, "`{found}` cannot be called as a goal"),
+        }
+    }
+}
+
+/// A clause compiled to a cell template: `nvars` variable cells first, then the head and
+/// body. `Ref` and `Struct` indices are relative to the template's start.
+#[derive(Clone, Debug)]
+struct ClauseTemplate {
+    cells: Vec<Cell>,
+    head: Cell,
+    /// The body, or `None` for a fact.
+    body: Option<Cell>,
+}
+
+/// The first-argument key used to skip clauses that cannot match.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum IndexKey {
+    Atom(Symbol),
+    Int(i64),
+    Float(u64),
+    Str(Symbol),
+    Functor(Symbol, u32),
+}
+
+/// A predicate's clauses, in order, with a first-argument index.
+#[derive(Clone, Debug, Default)]
+struct Predicate {
+    clauses: Vec<u32>,
+    /// For each first-argument key, the clauses whose first argument has that key or is a
+    /// variable, in clause order.
+    by_key: FxHashMap<IndexKey, Vec<u32>>,
+    /// The clauses whose first argument is a variable, in order (for keys not in `by_key`).
+    var_first: Vec<u32>,
+}
+
+/// A compiled program: the static KB.
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    clauses: Vec<ClauseTemplate>,
+    predicates: FxHashMap<(Symbol, u32), Predicate>,
+}
+
+/// Converts HIR terms into cell templates.
+struct TemplateBuilder {
+    cells: Vec<Cell>,
+}
+
+impl TemplateBuilder {
+    fn new(nvars: usize) -> TemplateBuilder {
+        TemplateBuilder { cells: (0..nvars as u32).map(Cell::Ref).collect() }
+    }
+
+    fn term(&mut self, term: &Term) -> Cell {
+        match term {
+            Term::Var(v) => Cell::Ref(v.0),
+            Term::Atom(s) => Cell::Atom(*s),
+            Term::Int(i) => Cell::Int(*i),
+            Term::Float(f) => Cell::Float(*f),
+            Term::Str(s) => Cell::Str(*s),
+            Term::Compound(f, args) => {
+                let cells: Vec<Cell> = args.iter().map(|a| self.term(a)).collect();
+                self.compound(*f, &cells)
+            }
+        }
+    }
+
+    fn compound(&mut self, functor: Symbol, args: &[Cell]) -> Cell {
+        let at = self.cells.len() as u32;
+        self.cells.push(Cell::Functor(functor, args.len() as u32));
+        self.cells.extend_from_slice(args);
+        Cell::Struct(at)
+    }
+
+    fn goal(&mut self, goal: &Goal) -> Cell {
+        match goal {
+            Goal::Call(literal) => self.term(&literal.term),
+            Goal::And(goals) => {
+                let mut cells: Vec<Cell> = goals.iter().map(|g| self.goal(g)).collect();
+                let mut conjunction = cells.pop().unwrap_or(Cell::Atom(sym::TRUE));
+                while let Some(left) = cells.pop() {
+                    conjunction = self.compound(sym::COMMA, &[left, conjunction]);
+                }
+                conjunction
+            }
+            Goal::Or(a, b) => {
+                let (a, b) = (self.goal(a), self.goal(b));
+                self.compound(sym::SEMI, &[a, b])
+            }
+            Goal::IfThenElse(c, t, e) => {
+                let (c, t) = (self.goal(c), self.goal(t));
+                let if_then = self.compound(sym::ARROW, &[c, t]);
+                match e {
+                    Some(e) => {
+                        let e = self.goal(e);
+                        self.compound(sym::SEMI, &[if_then, e])
+                    }
+                    None => if_then,
+                }
+            }
+            Goal::Not(g) => {
+                let g = self.goal(g);
+                self.compound(sym::NOT_PROVABLE, &[g])
+            }
+        }
+    }
+}
+
+fn index_key(cells: &[Cell], cell: Cell) -> Option<IndexKey> {
+    match cell {
+        Cell::Atom(s) => Some(IndexKey::Atom(s)),
+        Cell::Int(i) => Some(IndexKey::Int(i)),
+        Cell::Float(f) => Some(IndexKey::Float(f.to_bits())),
+        Cell::Str(s) => Some(IndexKey::Str(s)),
+        Cell::Struct(at) => match cells[at as usize] {
+            Cell::Functor(f, n) => Some(IndexKey::Functor(f, n)),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+impl Program {
+    /// The program of a KB's static clauses, plus `extra_facts` (a problem's goal literals,
+    /// which OnKB goals may ask about), plus `member/2` unless the KB defines it.
+    pub fn new(kb: &Kb, extra_facts: &[(&Literal, &hir::VarTable)]) -> Program {
+        let mut program = Program::default();
+        for clause in &kb.clauses {
+            let mut builder = TemplateBuilder::new(clause.vars.len());
+            let head = builder.term(&clause.head.term);
+            let body = clause.body.as_deref().map(|b| builder.goal(b));
+            program.add(ClauseTemplate { cells: builder.cells, head, body });
+        }
+        for (literal, vars) in extra_facts {
+            let mut builder = TemplateBuilder::new(vars.len());
+            let head = builder.term(&literal.term);
+            program.add(ClauseTemplate { cells: builder.cells, head, body: None });
+        }
+        if !program.predicates.contains_key(&(sym::MEMBER, 2)) {
+            program.add_member();
+        }
+        program
+    }
+
+    /// `member(X, [X|_]).` and `member(X, [_|T]) :- member(X, T).`
+    fn add_member(&mut self) {
+        let mut first = TemplateBuilder::new(2);
+        let list = first.compound(sym::CONS, &[Cell::Ref(0), Cell::Ref(1)]);
+        let head = first.compound(sym::MEMBER, &[Cell::Ref(0), list]);
+        self.add(ClauseTemplate { cells: first.cells, head, body: None });
+        let mut second = TemplateBuilder::new(3);
+        let list = second.compound(sym::CONS, &[Cell::Ref(1), Cell::Ref(2)]);
+        let head = second.compound(sym::MEMBER, &[Cell::Ref(0), list]);
+        let body = second.compound(sym::MEMBER, &[Cell::Ref(0), Cell::Ref(2)]);
+        self.add(ClauseTemplate { cells: second.cells, head, body: Some(body) });
+    }
+
+    fn add(&mut self, clause: ClauseTemplate) {
+        let (name, arity, first) = match clause.head {
+            Cell::Atom(s) => (s, 0, None),
+            Cell::Struct(at) => match clause.cells[at as usize] {
+                Cell::Functor(f, n) => (f, n, (n > 0).then(|| clause.cells[at as usize + 1])),
+                _ => return,
+            },
+            _ => return,
+        };
+        let id = self.clauses.len() as u32;
+        let key = first.and_then(|c| index_key(&clause.cells, c));
+        self.clauses.push(clause);
+        let predicate = self.predicates.entry((name, arity)).or_default();
+        predicate.clauses.push(id);
+        match key {
+            Some(key) => {
+                if !predicate.by_key.contains_key(&key) {
+                    // A new key starts with every earlier variable-first clause, in order.
+                    let earlier = predicate.var_first.clone();
+                    predicate.by_key.insert(key, earlier);
+                }
+                predicate.by_key.get_mut(&key).expect("inserted above").push(id);
+            }
+            None => {
+                predicate.var_first.push(id);
+                for list in predicate.by_key.values_mut() {
+                    list.push(id);
+                }
+            }
+        }
+    }
+
+    /// True if the program has clauses for `name/arity`.
+    pub fn defines(&self, name: Symbol, arity: usize) -> bool {
+        self.predicates.contains_key(&(name, arity as u32))
+    }
+
+    /// The number of clauses of `name/arity`.
+    pub fn clause_count(&self, name: Symbol, arity: usize) -> usize {
+        self.predicates.get(&(name, arity as u32)).map_or(0, |p| p.clauses.len())
+    }
+}
+
+/// What to do after a solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Next {
+    /// Look for another solution.
+    More,
+    /// Stop: this one is enough.
+    Stop,
+}
+
+/// How a query ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// Every solution was produced.
+    Exhausted,
+    /// The caller stopped after a solution.
+    Stopped,
+}
+
+/// A goal still to prove, in the continuation list.
+#[derive(Clone, Copy, Debug)]
+struct Cont {
+    goal: Cell,
+    /// The choicepoint height a `!` in this goal cuts back to.
+    cut: u32,
+    /// The rest of the continuation (`NIL` at the end).
+    next: u32,
+}
+
+const NIL: u32 = u32::MAX;
+
+/// What a choicepoint retries.
+#[derive(Clone, Copy, Debug)]
+enum Alternative {
+    /// The remaining clauses of a call: the goal, its clause list, the next position in it.
+    Clauses { goal: Cell, predicate: (Symbol, u32), key: Option<IndexKey>, next: u32, cut: u32 },
+    /// The other branch of a disjunction.
+    Goal { goal: Cell, cut: u32 },
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Choicepoint {
+    alternative: Alternative,
+    /// The continuation to resume with.
+    cont: u32,
+    heap: u32,
+    trail: u32,
+    conts: u32,
+}
+
+/// A special goal: cut back to the given choicepoint height (if-then-else, negation).
+const CUT_TO: Symbol = Symbol(u32::MAX - 1);
+
+/// An abstract machine that proves queries against a [`Program`].
+pub struct Machine<'p> {
+    program: &'p Program,
+    heap: Vec<Cell>,
+    trail: Vec<u32>,
+    conts: Vec<Cont>,
+    choicepoints: Vec<Choicepoint>,
+    steps: u64,
+    budget: u64,
+}
+
+impl<'p> Machine<'p> {
+    /// A machine over `program`; each query may take up to `budget` resolution steps.
+    pub fn new(program: &'p Program, budget: u64) -> Machine<'p> {
+        Machine {
+            program,
+            heap: Vec::new(),
+            trail: Vec::new(),
+            conts: Vec::new(),
+            choicepoints: Vec::new(),
+            steps: 0,
+            budget,
+        }
+    }
+
+    /// Clears the heap and every other stack, for a new query.
+    pub fn reset(&mut self) {
+        self.heap.clear();
+        self.trail.clear();
+        self.conts.clear();
+        self.choicepoints.clear();
+        self.steps = 0;
+    }
+
+    /// The steps the last query took.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// A fresh unbound variable.
+    pub fn new_var(&mut self) -> Cell {
+        let at = self.heap.len() as u32;
+        self.heap.push(Cell::Ref(at));
+        Cell::Ref(at)
+    }
+
+    /// A compound built from already-placed argument cells.
+    pub fn new_compound(&mut self, functor: Symbol, args: &[Cell]) -> Cell {
+        let at = self.heap.len() as u32;
+        self.heap.push(Cell::Functor(functor, args.len() as u32));
+        self.heap.extend_from_slice(args);
+        Cell::Struct(at)
+    }
+
+    /// Places a HIR term on the heap; `vars` maps its variables to cells, creating fresh ones
+    /// for those still `None`.
+    pub fn put_term(&mut self, term: &Term, vars: &mut [Option<Cell>]) -> Cell {
+        match term {
+            Term::Var(v) => match vars.get(v.0 as usize).copied().flatten() {
+                Some(cell) => cell,
+                None => {
+                    let cell = self.new_var();
+                    if let Some(slot) = vars.get_mut(v.0 as usize) {
+                        *slot = Some(cell);
+                    }
+                    cell
+                }
+            },
+            Term::Atom(s) => Cell::Atom(*s),
+            Term::Int(i) => Cell::Int(*i),
+            Term::Float(f) => Cell::Float(*f),
+            Term::Str(s) => Cell::Str(*s),
+            Term::Compound(f, args) => {
+                let cells: Vec<Cell> = args.iter().map(|a| self.put_term(a, vars)).collect();
+                self.new_compound(*f, &cells)
+            }
+        }
+    }
+
+    /// Places a goal on the heap, as [`Machine::put_term`] does for terms.
+    pub fn put_goal(&mut self, goal: &Goal, vars: &mut [Option<Cell>]) -> Cell {
+        match goal {
+            Goal::Call(literal) => self.put_term(&literal.term, vars),
+            Goal::And(goals) => {
+                let mut cells: Vec<Cell> = goals.iter().map(|g| self.put_goal(g, vars)).collect();
+                let mut conjunction = cells.pop().unwrap_or(Cell::Atom(sym::TRUE));
+                while let Some(left) = cells.pop() {
+                    conjunction = self.new_compound(sym::COMMA, &[left, conjunction]);
+                }
+                conjunction
+            }
+            Goal::Or(a, b) => {
+                let (a, b) = (self.put_goal(a, vars), self.put_goal(b, vars));
+                self.new_compound(sym::SEMI, &[a, b])
+            }
+            Goal::IfThenElse(c, t, e) => {
+                let (c, t) = (self.put_goal(c, vars), self.put_goal(t, vars));
+                let if_then = self.new_compound(sym::ARROW, &[c, t]);
+                match e {
+                    Some(e) => {
+                        let e = self.put_goal(e, vars);
+                        self.new_compound(sym::SEMI, &[if_then, e])
+                    }
+                    None => if_then,
+                }
+            }
+            Goal::Not(g) => {
+                let g = self.put_goal(g, vars);
+                self.new_compound(sym::NOT_PROVABLE, &[g])
+            }
+        }
+    }
+
+    /// Follows variable bindings to the cell a term stands for.
+    pub fn deref(&self, mut cell: Cell) -> Cell {
+        while let Cell::Ref(at) = cell {
+            let bound = self.heap[at as usize];
+            if bound == Cell::Ref(at) {
+                return cell;
+            }
+            cell = bound;
+        }
+        cell
+    }
+
+    /// The functor and arguments of a compound cell (after deref), or `None`.
+    pub fn compound(&self, cell: Cell) -> Option<(Symbol, &[Cell])> {
+        match self.deref(cell) {
+            Cell::Struct(at) => match self.heap[at as usize] {
+                Cell::Functor(f, n) => Some((f, &self.heap[at as usize + 1..at as usize + 1 + n as usize])),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// Reads a cell back as a HIR term; unbound variables become variables numbered by first
+    /// occurrence (their table is `vars`).
+    pub fn read(&self, cell: Cell, vars: &mut Vec<u32>) -> Term {
+        match self.deref(cell) {
+            Cell::Ref(at) => {
+                let index = vars.iter().position(|&v| v == at).unwrap_or_else(|| {
+                    vars.push(at);
+                    vars.len() - 1
+                });
+                Term::Var(VarId(index as u32))
+            }
+            Cell::Atom(s) => Term::Atom(s),
+            Cell::Int(i) => Term::Int(i),
+            Cell::Float(f) => Term::Float(f),
+            Cell::Str(s) => Term::Str(s),
+            Cell::Struct(_) => {
+                let (f, args) = self.compound(cell).expect("a struct cell points at a functor");
+                let args: Vec<Cell> = args.to_vec();
+                Term::Compound(f, args.iter().map(|a| self.read(*a, vars)).collect())
+            }
+            Cell::Functor(..) => Term::Atom(sym::ANON),
+        }
+    }
+
+    fn bind(&mut self, var: u32, value: Cell) {
+        self.heap[var as usize] = value;
+        self.trail.push(var);
+    }
+
+    /// Unifies two cells, recording bindings on the trail. No occurs check, as in Prolog.
+    pub fn unify(&mut self, a: Cell, b: Cell) -> bool {
+        let mut pending = vec![(a, b)];
+        while let Some((a, b)) = pending.pop() {
+            let a = self.deref(a);
+            let b = self.deref(b);
+            match (a, b) {
+                (Cell::Ref(x), Cell::Ref(y)) => {
+                    if x != y {
+                        // Bind the younger variable to the older one.
+                        if x < y { self.bind(y, a) } else { self.bind(x, b) }
+                    }
+                }
+                (Cell::Ref(x), other) | (other, Cell::Ref(x)) => self.bind(x, other),
+                (Cell::Struct(x), Cell::Struct(y)) => {
+                    if x == y {
+                        continue;
+                    }
+                    let (Cell::Functor(f, n), Cell::Functor(g, m)) = (self.heap[x as usize], self.heap[y as usize])
+                    else {
+                        return false;
+                    };
+                    if f != g || n != m {
+                        return false;
+                    }
+                    for i in 1..=n {
+                        pending.push((self.heap[(x + i) as usize], self.heap[(y + i) as usize]));
+                    }
+                }
+                (Cell::Float(x), Cell::Float(y)) => {
+                    if x.to_bits() != y.to_bits() {
+                        return false;
+                    }
+                }
+                (x, y) => {
+                    if x != y {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// Standard-order identity (`==`): same structure, same variables.
+    fn identical(&self, a: Cell, b: Cell) -> bool {
+        let a = self.deref(a);
+        let b = self.deref(b);
+        match (a, b) {
+            (Cell::Struct(_), Cell::Struct(_)) => {
+                let (Some((f, xs)), Some((g, ys))) = (self.compound(a), self.compound(b)) else { return false };
+                f == g && xs.len() == ys.len() && xs.iter().zip(ys).all(|(x, y)| self.identical(*x, *y))
+            }
+            (Cell::Float(x), Cell::Float(y)) => x.to_bits() == y.to_bits(),
+            (x, y) => x == y,
+        }
+    }
+
+    fn undo_to(&mut self, trail: u32) {
+        while self.trail.len() as u32 > trail {
+            let var = self.trail.pop().expect("checked length");
+            self.heap[var as usize] = Cell::Ref(var);
+        }
+    }
+
+    /// Copies a clause template onto the heap and returns its head and body.
+    fn rename(&mut self, clause: u32) -> (Cell, Option<Cell>) {
+        let template = &self.program.clauses[clause as usize];
+        let offset = self.heap.len() as u32;
+        self.heap.extend(template.cells.iter().map(|c| relocate(*c, offset)));
+        (relocate(template.head, offset), template.body.map(|b| relocate(b, offset)))
+    }
+
+    fn push_goal(&mut self, goal: Cell, cut: u32, next: u32) -> u32 {
+        self.conts.push(Cont { goal, cut, next });
+        self.conts.len() as u32 - 1
+    }
+
+    /// Proves `goal`, calling `on_solution` for each solution in order until it returns
+    /// [`Next::Stop`] or there are no more. Bindings are visible to `on_solution` (read them
+    /// with [`Machine::deref`] and [`Machine::read`]); they are undone afterwards.
+    pub fn solve(
+        &mut self,
+        goal: Cell,
+        mut on_solution: impl FnMut(&Machine<'p>) -> Next,
+    ) -> Result<Outcome, EngineError> {
+        let base_choicepoints = self.choicepoints.len() as u32;
+        let base_trail = self.trail.len() as u32;
+        let mut current = self.push_goal(goal, base_choicepoints, NIL);
+        let result = loop {
+            if current == NIL {
+                if on_solution(self) == Next::Stop {
+                    break Ok(Outcome::Stopped);
+                }
+                match self.backtrack(base_choicepoints) {
+                    Some(next) => {
+                        current = next;
+                        continue;
+                    }
+                    None => break Ok(Outcome::Exhausted),
+                }
+            }
+            self.steps += 1;
+            if self.steps > self.budget {
+                break Err(EngineError::Budget { steps: self.budget });
+            }
+            let Cont { goal, cut, next } = self.conts[current as usize];
+            match self.step(goal, cut, next) {
+                Ok(Some(next)) => current = next,
+                Ok(None) => match self.backtrack(base_choicepoints) {
+                    Some(next) => current = next,
+                    None => break Ok(Outcome::Exhausted),
+                },
+                Err(error) => break Err(error),
+            }
+        };
+        self.choicepoints.truncate(base_choicepoints as usize);
+        self.undo_to(base_trail);
+        result
+    }
+
+    /// Resumes the youngest choicepoint above `base`; `None` when there is none.
+    fn backtrack(&mut self, base: u32) -> Option<u32> {
+        loop {
+            if self.choicepoints.len() as u32 <= base {
+                return None;
+            }
+            let index = self.choicepoints.len() - 1;
+            let cp = self.choicepoints[index];
+            self.undo_to(cp.trail);
+            self.heap.truncate(cp.heap as usize);
+            self.conts.truncate(cp.conts as usize);
+            match cp.alternative {
+                Alternative::Goal { goal, cut } => {
+                    self.choicepoints.pop();
+                    return Some(self.push_goal(goal, cut, cp.cont));
+                }
+                Alternative::Clauses { goal, predicate, key, next, cut } => {
+                    let list = self.clause_list(predicate, key);
+                    let Some(&clause) = list.get(next as usize) else {
+                        self.choicepoints.pop();
+                        continue;
+                    };
+                    if next as usize + 1 < list.len() {
+                        if let Alternative::Clauses { next: slot, .. } = &mut self.choicepoints[index].alternative {
+                            *slot = next + 1;
+                        }
+                    } else {
+                        self.choicepoints.pop();
+                    }
+                    if let Some(resumed) = self.try_clause(goal, clause, cut, cp.cont) {
+                        return Some(resumed);
+                    }
+                }
+            }
+        }
+    }
+
+    fn clause_list(&self, predicate: (Symbol, u32), key: Option<IndexKey>) -> &'p [u32] {
+        let program: &'p Program = self.program;
+        let Some(p) = program.predicates.get(&predicate) else { return &[] };
+        match key {
+            Some(key) => p.by_key.get(&key).map_or(&p.var_first[..], |l| &l[..]),
+            None => &p.clauses,
+        }
+    }
+
+    /// Renames `clause`, unifies its head with `goal`, and returns the continuation with its
+    /// body pushed; `None` if the head does not unify.
+    fn try_clause(&mut self, goal: Cell, clause: u32, cut: u32, next: u32) -> Option<u32> {
+        let (head, body) = self.rename(clause);
+        if !self.unify(head, goal) {
+            return None;
+        }
+        Some(match body {
+            Some(body) => self.push_goal(body, cut, next),
+            None => next,
+        })
+    }
+
+    /// Takes one step on `goal`: returns the next continuation, `None` to backtrack.
+    fn step(&mut self, goal: Cell, cut: u32, next: u32) -> Result<Option<u32>, EngineError> {
+        let goal = self.deref(goal);
+        let (name, args): (Symbol, Vec<Cell>) = match goal {
+            Cell::Atom(s) => (s, Vec::new()),
+            Cell::Struct(_) => {
+                let (f, args) = self.compound(goal).expect("a struct cell points at a functor");
+                (f, args.to_vec())
+            }
+            Cell::Ref(_) => return Err(EngineError::Instantiation { context: "a goal".to_string() }),
+            other => return Err(EngineError::NotCallable { found: format!("{other:?}") }),
+        };
+        match (name, args.len()) {
+            (sym::TRUE, 0) => Ok(Some(next)),
+            (sym::FAIL | sym::FALSE, 0) => Ok(None),
+            (sym::CUT, 0) => {
+                self.choicepoints.truncate(cut as usize);
+                Ok(Some(next))
+            }
+            (CUT_TO, 1) => {
+                if let Cell::Int(height) = self.deref(args[0]) {
+                    self.choicepoints.truncate(height as usize);
+                }
+                Ok(Some(next))
+            }
+            (sym::COMMA, 2) => {
+                let rest = self.push_goal(args[1], cut, next);
+                Ok(Some(self.push_goal(args[0], cut, rest)))
+            }
+            (sym::SEMI, 2) => {
+                let if_then = match self.compound(args[0]) {
+                    Some((sym::ARROW, [condition, then])) => Some((*condition, *then)),
+                    _ => None,
+                };
+                if let Some((condition, then)) = if_then {
+                    return Ok(Some(self.if_then_else(condition, then, Some(args[1]), cut, next)));
+                }
+                self.push_choicepoint(Alternative::Goal { goal: args[1], cut }, next);
+                Ok(Some(self.push_goal(args[0], cut, next)))
+            }
+            (sym::ARROW, 2) => Ok(Some(self.if_then_else(args[0], args[1], None, cut, next))),
+            (sym::NOT_PROVABLE | sym::NOT, 1) => {
+                // \+ G is (G -> fail ; true).
+                Ok(Some(self.if_then_else(args[0], Cell::Atom(sym::FAIL), Some(Cell::Atom(sym::TRUE)), cut, next)))
+            }
+            (sym::EQ, 2) => Ok(self.unify(args[0], args[1]).then_some(next)),
+            (sym::NOT_UNIFY, 2) => {
+                let mark = self.trail.len() as u32;
+                let unifies = self.unify(args[0], args[1]);
+                self.undo_to(mark);
+                Ok((!unifies).then_some(next))
+            }
+            (sym::IDENTICAL, 2) => Ok(self.identical(args[0], args[1]).then_some(next)),
+            (sym::NOT_IDENTICAL, 2) => Ok((!self.identical(args[0], args[1])).then_some(next)),
+            (sym::IS, 2) => {
+                let value = arith::eval(self, args[1])?;
+                Ok(self.unify(args[0], value.cell()).then_some(next))
+            }
+            (sym::LT | sym::GT | sym::LE | sym::GE | sym::ARITH_EQ | sym::ARITH_NE, 2) => {
+                let a = arith::eval(self, args[0])?;
+                let b = arith::eval(self, args[1])?;
+                let ordering = a.compare(b);
+                let holds = match name {
+                    sym::LT => ordering.is_lt(),
+                    sym::GT => ordering.is_gt(),
+                    sym::LE => ordering.is_le(),
+                    sym::GE => ordering.is_ge(),
+                    sym::ARITH_EQ => ordering.is_eq(),
+                    _ => ordering.is_ne(),
+                };
+                Ok(holds.then_some(next))
+            }
+            _ => Ok(self.call(goal, name, &args, next)),
+        }
+    }
+
+    /// `(C -> T ; E)`: remember the choicepoint height, push the else branch (if any) as an
+    /// alternative, and prove C followed by a cut back to that height, then T.
+    fn if_then_else(&mut self, condition: Cell, then: Cell, otherwise: Option<Cell>, cut: u32, next: u32) -> u32 {
+        let height = self.choicepoints.len() as u32;
+        if let Some(otherwise) = otherwise {
+            self.push_choicepoint(Alternative::Goal { goal: otherwise, cut }, next);
+        }
+        let then = self.push_goal(then, cut, next);
+        let marker = self.new_compound(CUT_TO, &[Cell::Int(height as i64)]);
+        let after_condition = self.push_goal(marker, cut, then);
+        let condition_cut = self.choicepoints.len() as u32;
+        self.push_goal(condition, condition_cut, after_condition)
+    }
+
+    fn push_choicepoint(&mut self, alternative: Alternative, cont: u32) {
+        self.choicepoints.push(Choicepoint {
+            alternative,
+            cont,
+            heap: self.heap.len() as u32,
+            trail: self.trail.len() as u32,
+            conts: self.conts.len() as u32,
+        });
+    }
+
+    /// Calls a user predicate: tries its clauses in order, leaving a choicepoint for the rest.
+    fn call(&mut self, goal: Cell, name: Symbol, args: &[Cell], next: u32) -> Option<u32> {
+        let predicate = (name, args.len() as u32);
+        let key = args.first().map(|a| self.deref(*a)).and_then(|a| index_key(&self.heap, a));
+        let list = self.clause_list(predicate, key);
+        let cut = self.choicepoints.len() as u32;
+        for (position, &clause) in list.iter().enumerate() {
+            if position + 1 < list.len() {
+                self.push_choicepoint(
+                    Alternative::Clauses { goal, predicate, key, next: position as u32 + 1, cut },
+                    next,
+                );
+            }
+            let mark = (self.heap.len(), self.trail.len() as u32);
+            if let Some(resumed) = self.try_clause(goal, clause, cut, next) {
+                return Some(resumed);
+            }
+            // The head did not unify: drop the choicepoint just pushed and try the next clause
+            // here, rather than going through backtracking.
+            if position + 1 < list.len() {
+                self.choicepoints.pop();
+            }
+            self.undo_to(mark.1);
+            self.heap.truncate(mark.0);
+        }
+        None
+    }
+}
+
+fn relocate(cell: Cell, offset: u32) -> Cell {
+    match cell {
+        Cell::Ref(i) => Cell::Ref(i + offset),
+        Cell::Struct(i) => Cell::Struct(i + offset),
+        other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::passes::load::MemoryLoader;
+    use crate::source::SourceDb;
+
+    fn program(text: &str) -> (Program, crate::driver::Frontend) {
+        let mut db = SourceDb::new();
+        let id = db.add("t.pl", None, text);
+        let frontend = crate::driver::frontend(&mut db, &[id], &mut MemoryLoader::default());
+        (Program::new(&frontend.kb, &[]), frontend)
+    }
+
+    fn atom(frontend: &mut crate::driver::Frontend, name: &str) -> Cell {
+        Cell::Atom(frontend.interner.intern(name))
+    }
+
+    #[test]
+    fn an_infinite_loop_runs_out_of_budget() {
+        let (program, mut frontend) = program("loop :- loop.\n");
+        let mut machine = Machine::new(&program, 10_000);
+        let goal = atom(&mut frontend, "loop");
+        assert_eq!(machine.solve(goal, |_| Next::More), Err(EngineError::Budget { steps: 10_000 }));
+        assert!(machine.steps() > 10_000);
+    }
+
+    #[test]
+    fn left_recursion_without_a_base_case_also_stops() {
+        // p :- p, q. grows the continuation on every step: the budget bounds memory as well.
+        let (program, mut frontend) = program("p :- p, q.\nq.\n");
+        let mut machine = Machine::new(&program, 50_000);
+        let goal = atom(&mut frontend, "p");
+        assert!(matches!(machine.solve(goal, |_| Next::More), Err(EngineError::Budget { .. })));
+    }
+
+    #[test]
+    fn a_machine_answers_query_after_query() {
+        let (program, mut frontend) = program("c(1).\nc(2).\nc(3).\n");
+        let mut machine = Machine::new(&program, 1_000);
+        let c = frontend.interner.intern("c");
+        for _ in 0..3 {
+            machine.reset();
+            let x = machine.new_var();
+            let goal = machine.new_compound(c, &[x]);
+            let mut seen = Vec::new();
+            let outcome = machine.solve(goal, |m| {
+                seen.push(m.deref(x));
+                Next::More
+            });
+            assert_eq!(outcome, Ok(Outcome::Exhausted));
+            assert_eq!(seen, vec![Cell::Int(1), Cell::Int(2), Cell::Int(3)]);
+        }
+    }
+
+    #[test]
+    fn stopping_early_undoes_the_bindings() {
+        let (program, mut frontend) = program("c(1).\nc(2).\n");
+        let mut machine = Machine::new(&program, 1_000);
+        let c = frontend.interner.intern("c");
+        let x = machine.new_var();
+        let goal = machine.new_compound(c, &[x]);
+        assert_eq!(machine.solve(goal, |_| Next::Stop), Ok(Outcome::Stopped));
+        assert!(matches!(machine.deref(x), Cell::Ref(_)), "bindings are undone after the query");
+    }
+
+    #[test]
+    fn first_argument_indexing_keeps_clause_order() {
+        // Clauses with a variable first argument stay in their place among indexed ones.
+        let (program, mut frontend) = program("k(a, 1).\nk(X, 2) :- X = a.\nk(b, 3).\nk(a, 4).\n");
+        let mut machine = Machine::new(&program, 1_000);
+        let k = frontend.interner.intern("k");
+        let a = atom(&mut frontend, "a");
+        let n = machine.new_var();
+        let goal = machine.new_compound(k, &[a, n]);
+        let mut seen = Vec::new();
+        machine
+            .solve(goal, |m| {
+                seen.push(m.deref(n));
+                Next::More
+            })
+            .expect("no error");
+        assert_eq!(seen, vec![Cell::Int(1), Cell::Int(2), Cell::Int(4)]);
+    }
+}
