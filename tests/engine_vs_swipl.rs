@@ -118,7 +118,7 @@ fn kbc_answers() -> (BTreeMap<i64, Answer>, Interner) {
             Ok(_) => Answer::Solutions(solutions),
             Err(EngineError::Instantiation { .. }) => Answer::Error("instantiation_error".into()),
             Err(EngineError::Type { .. } | EngineError::NotCallable { .. }) => Answer::Error("type_error".into()),
-            Err(EngineError::ZeroDivisor) => Answer::Error("evaluation_error".into()),
+            Err(EngineError::ZeroDivisor | EngineError::Evaluation { .. }) => Answer::Error("evaluation_error".into()),
             Err(EngineError::Budget { .. }) => Answer::Error("budget".into()),
         };
         answers.insert(number, answer);

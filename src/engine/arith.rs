@@ -8,6 +8,7 @@ use std::cmp::Ordering;
 
 use super::{Cell, EngineError, Machine};
 use crate::intern::sym;
+use crate::ir::hir::Term;
 
 /// A number.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,21 +42,26 @@ impl Number {
 }
 
 fn overflow() -> EngineError {
-    EngineError::Type { expected: "a result within 64-bit integers", found: "an overflowing integer".to_string() }
+    EngineError::Evaluation { message: "the result does not fit in a 64-bit integer".to_string() }
 }
 
 fn float(value: f64) -> Result<Number, EngineError> {
     if value.is_finite() {
         Ok(Number::Float(value))
     } else {
-        Err(EngineError::Type { expected: "a finite result", found: value.to_string() })
+        Err(EngineError::Evaluation { message: format!("the result is not a finite number ({value})") })
     }
+}
+
+/// What an integer-only operator expects, for its type error.
+fn integer_operand(name: &str) -> &'static str {
+    if name == "mod" { "an integer operand of `mod`" } else { "an integer operand of `//`" }
 }
 
 fn integer_only(name: &str, n: Number) -> Result<i64, EngineError> {
     match n {
         Number::Int(i) => Ok(i),
-        Number::Float(f) => Err(EngineError::Type { expected: "an integer", found: format!("{f:?} in {name}") }),
+        Number::Float(f) => Err(EngineError::Type { expected: integer_operand(name), found: Term::Float(f) }),
     }
 }
 
@@ -65,9 +71,9 @@ pub(super) fn eval(machine: &Machine<'_>, cell: Cell) -> Result<Number, EngineEr
         Cell::Int(i) => Ok(Number::Int(i)),
         Cell::Float(f) => Ok(Number::Float(f)),
         Cell::Ref(_) => Err(EngineError::Instantiation { context: "arithmetic".to_string() }),
-        Cell::Atom(s) => Err(EngineError::Type { expected: "a number", found: format!("atom #{}", s.0) }),
-        Cell::Str(_) => Err(EngineError::Type { expected: "a number", found: "a string".to_string() }),
-        Cell::Functor(..) => Err(EngineError::Type { expected: "a number", found: "a functor".to_string() }),
+        Cell::Atom(_) | Cell::Str(_) | Cell::Functor(..) => {
+            Err(EngineError::Type { expected: "a number", found: machine.read(cell, &mut Vec::new()) })
+        }
         Cell::Struct(_) => {
             let (name, args) = machine.compound(cell).expect("a struct cell points at a functor");
             match (name, args) {
@@ -90,7 +96,7 @@ pub(super) fn eval(machine: &Machine<'_>, cell: Cell) -> Result<Number, EngineEr
                 }
                 _ => Err(EngineError::Type {
                     expected: "an arithmetic function",
-                    found: format!("a compound of arity {}", args.len()),
+                    found: machine.read(cell, &mut Vec::new()),
                 }),
             }
         }

@@ -23,7 +23,7 @@ mod arith;
 
 use rustc_hash::FxHashMap;
 
-use crate::intern::{Symbol, sym};
+use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{self, Goal, Kb, Literal, Term, VarId};
 
 /// One heap cell.
@@ -62,26 +62,34 @@ pub enum EngineError {
     Type {
         /// What was expected, e.g. "a number".
         expected: &'static str,
-        /// What was found, printed.
-        found: String,
+        /// The value found instead.
+        found: Term,
+    },
+    /// Arithmetic whose result cannot be represented (an integer overflow, say).
+    Evaluation {
+        /// What went wrong.
+        message: String,
     },
     /// Division by zero.
     ZeroDivisor,
     /// A goal that is not callable (a number, say).
     NotCallable {
-        /// The goal, printed.
-        found: String,
+        /// The goal.
+        found: Term,
     },
 }
 
-impl std::fmt::Display for EngineError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl EngineError {
+    /// The error as a sentence, with terms printed by name.
+    pub fn message(&self, interner: &Interner) -> String {
+        let show = |term: &Term| hir::term_to_string(interner, term, &hir::VarTable::default());
         match self {
-            EngineError::Budget { steps } => write!(f, "the query ran out of its budget of {steps} resolution steps"),
-            EngineError::Instantiation { context } => write!(f, "{context} needs a bound value but found a variable"),
-            EngineError::Type { expected, found } => write!(f, "expected {expected}, found `{found}`"),
-            EngineError::ZeroDivisor => write!(f, "division by zero"),
-            EngineError::NotCallable { found } => write!(f, "`{found}` cannot be called as a goal"),
+            EngineError::Budget { steps } => format!("the query ran out of its budget of {steps} resolution steps"),
+            EngineError::Instantiation { context } => format!("{context} needs a bound value but found a variable"),
+            EngineError::Type { expected, found } => format!("expected {expected}, found `{}`", show(found)),
+            EngineError::Evaluation { message } => message.clone(),
+            EngineError::ZeroDivisor => "division by zero".to_string(),
+            EngineError::NotCallable { found } => format!("`{}` cannot be called as a goal", show(found)),
         }
     }
 }
@@ -688,7 +696,7 @@ impl<'p> Machine<'p> {
                 (f, args.to_vec())
             }
             Cell::Ref(_) => return Err(EngineError::Instantiation { context: "a goal".to_string() }),
-            other => return Err(EngineError::NotCallable { found: format!("{other:?}") }),
+            other => return Err(EngineError::NotCallable { found: self.read(other, &mut Vec::new()) }),
         };
         match (name, args.len()) {
             (sym::TRUE, 0) => Ok(Some(next)),
