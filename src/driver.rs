@@ -90,3 +90,35 @@ fn prepend(first: Loaded, second: Loaded) -> Loaded {
     order.extend(second.order.into_iter().map(|r| load::ClauseRef { file: r.file + offset, clause: r.clause }));
     Loaded { files, order }
 }
+
+/// Chooses the problem a command works on: the one named `name`, or the only one.
+///
+/// Fails with a diagnostic when the name is unknown (listing the problems), when there is no
+/// problem, or when there are several and no name (listing them).
+pub fn select_problem(kb: &Kb, interner: &Interner, name: Option<&str>) -> Result<usize, Box<Diagnostic>> {
+    use crate::diag::codes;
+    let names = || kb.problems.iter().map(|p| format!("`{}`", interner.resolve(p.name))).collect::<Vec<_>>().join(", ");
+    let diagnostic = match name {
+        Some(name) => {
+            if let Some(index) = interner.get(name).and_then(|s| kb.problems.iter().position(|p| p.name == s)) {
+                return Ok(index);
+            }
+            let unknown = Diagnostic::error(codes::UNKNOWN_PROBLEM, format!("no problem named `{name}`"));
+            if kb.problems.is_empty() {
+                unknown.with_note("the files define no problem at all")
+            } else {
+                unknown.with_note(format!("the problems are {}", names())).with_help("pass one of them to `--problem`")
+            }
+        }
+        None => match kb.problems.len() {
+            1 => return Ok(0),
+            0 => Diagnostic::error(codes::NO_PROBLEM, "no problem to plan")
+                .with_note("a problem is a test `name :- go(Init, Goal).` or an `init_state`/`goal_state` pair")
+                .with_help("add a goal file to the command line"),
+            n => Diagnostic::error(codes::AMBIGUOUS_PROBLEM, format!("{n} problems and no `--problem` to choose one"))
+                .with_note(format!("the problems are {}", names()))
+                .with_help("choose one with `--problem NAME`"),
+        },
+    };
+    Err(Box::new(diagnostic))
+}

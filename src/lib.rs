@@ -19,5 +19,7 @@ pub mod engine;
 pub mod intern;
 pub mod ir;
 pub mod passes;
+pub mod planner;
 pub mod source;
 pub mod syntax;
+pub mod validate;

@@ -31,6 +31,19 @@ resources(available(_)).
 pos(X, Y) :- cell(X, Y).
 pos(X, Y) :- \+ cell(_, _), member(X, [1, 2, 3, 4, 5]), member(Y, [1, 2, 3, 4, 5]).
 
+% Where blocks may be put down. While a problem is planned, its goal's facts are part of the
+% KB (as in the paper), so these rules can ask the goal where a block belongs: a block is put
+% on the table where the goal wants it or on a buffer cell (one the goal leaves empty), and on
+% another block only where the goal stacks it there. Destinations come goal first, which
+% steers the paper's depth-first search.
+:- dynamic ontable/3, on/4.
+destination(B, X, Y) :- ontable(B, X, Y), pos(X, Y).
+destination(B, X, Y) :- on(B, _, X, Y), pos(X, Y).
+destination(_, X, Y) :- buffer(X, Y).
+table_place(B, X, Y) :- ontable(B, X, Y).
+table_place(_, X, Y) :- buffer(X, Y).
+buffer(X, Y) :- pos(X, Y), \+ ontable(_, X, Y), \+ on(_, _, X, Y).
+
 % grip: close the gripper on a clear block. The InvalidAtEnd lists keep a block that already
 % stands where the goal wants it from being picked up, as the paper's KB does.
 action(grip_start(A, B),
@@ -52,38 +65,41 @@ action(grip_end(A, B),
     [],
     [del(gripping(A, B)), del(clear(B)), add(gripped(A, B))]).
 
-% move_block: lift the held block off its support and carry it to another cell.
+% move_block: lift the held block off its support and carry it to another cell, one the
+% goal wants it on first.
 action(move_block_start(A, B, X1, Y1, X2, Y2),
     [gripped(A, B), ontable(B, X1, Y1)],
     [],
     [],
-    [pos(X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
+    [destination(B, X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
     [del(gripped(A, B)), del(ontable(B, X1, Y1)), add(moving(A, B, X1, Y1, X2, Y2))]).
 action(move_block_start(A, B, X1, Y1, X2, Y2),
     [gripped(A, B), on(B, B1, X1, Y1)],
     [],
     [],
-    [pos(X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
+    [destination(B, X2, Y2), (X1 \== X2 ; Y1 \== Y2)],
     [del(gripped(A, B)), del(on(B, B1, X1, Y1)), add(clear(B1)), add(moving(A, B, X1, Y1, X2, Y2))]).
-% Arriving at an empty cell, the block stands on the table.
+% Arriving at an empty cell, the block stands on the table (where the goal wants it, or on a
+% buffer cell).
 action(move_block_end(A, B, X1, Y1, X2, Y2),
     [moving(A, B, X1, Y1, X2, Y2)],
     [ontable(_, X2, Y2)],
     [],
-    [],
+    [table_place(B, X2, Y2)],
     [del(moving(A, B, X1, Y1, X2, Y2)), add(ontable(B, X2, Y2)), add(placed(A, B))]).
-% Arriving at a stack, the block goes on its top block, which must be clear and not being gripped.
+% Arriving at a stack, the block goes on its top block, where the goal stacks it on that block;
+% the top block must be clear and not being gripped.
 action(move_block_end(A, B, X1, Y1, X2, Y2),
     [moving(A, B, X1, Y1, X2, Y2), ontable(B2, X2, Y2), clear(B2)],
     [gripping(_, B2)],
     [],
-    [],
+    [on(B, B2, X2, Y2)],
     [del(moving(A, B, X1, Y1, X2, Y2)), del(clear(B2)), add(on(B, B2, X2, Y2)), add(placed(A, B))]).
 action(move_block_end(A, B, X1, Y1, X2, Y2),
     [moving(A, B, X1, Y1, X2, Y2), on(B2, _, X2, Y2), clear(B2)],
     [gripping(_, B2)],
     [],
-    [],
+    [on(B, B2, X2, Y2)],
     [del(moving(A, B, X1, Y1, X2, Y2)), del(clear(B2)), add(on(B, B2, X2, Y2)), add(placed(A, B))]).
 
 % release: open the gripper; the arm is free again and the block is clear.

@@ -18,6 +18,9 @@ use crate::passes::load::{LoadedText, SourceLoader};
 use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
 use crate::syntax::printer;
 
+mod plan;
+mod validate;
+
 /// Compile robot knowledge bases into behaviour trees.
 #[derive(Parser)]
 #[command(name = "kbc", version, about, long_about = None, propagate_version = true)]
@@ -38,6 +41,18 @@ enum Command {
     /// and arities, unbound effect variables and singleton variables. When no file declares
     /// an action schema, the standard blocks world (std/blocks.pl) is the domain.
     Check(CheckArgs),
+    /// Find a plan for one problem: a total order of snap actions.
+    ///
+    /// Plans the problem chosen with `--problem` (or the only one) with the heuristic search
+    /// (the default) or the paper's depth-first search, and prints the numbered plan and the
+    /// search's figures. The output is a valid plan file for `kbc validate`.
+    Plan(plan::PlanArgs),
+    /// Check a plan: replay it on the KB and report the first step that does not apply.
+    ///
+    /// Takes the KB and goal files, then the plan file (one ground action per line, optionally
+    /// numbered; `%` comments). The replay is independent of the planner's search code. Exits
+    /// with 0 when every step applies, the goal holds at the end and no action is left running.
+    Validate(validate::ValidateArgs),
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -67,7 +82,7 @@ enum ColorWhen {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum MessageFormat {
+pub(crate) enum MessageFormat {
     Human,
     Json,
 }
@@ -90,6 +105,8 @@ pub fn main() -> ExitCode {
     };
     match cli.command {
         Command::Check(args) => check(args, color),
+        Command::Plan(args) => plan::run(args, color),
+        Command::Validate(args) => validate::run(args, color),
         Command::Explain { code } => explain(&code),
     }
 }
@@ -123,7 +140,7 @@ fn read_text(path: &Path) -> Result<String, String> {
 }
 
 /// Reads the command line's files into `db`; unreadable ones become diagnostics.
-fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics) -> Vec<FileId> {
+pub(crate) fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics) -> Vec<FileId> {
     let mut roots = Vec::new();
     for path in paths {
         match read_text(path) {
@@ -168,7 +185,7 @@ fn check(args: CheckArgs, color: bool) -> ExitCode {
     if diagnostics.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }
 }
 
-fn report(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) {
+pub(crate) fn report(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) {
     match format {
         MessageFormat::Human => {
             if render::emit_to_terminal(db, diagnostics, color).is_err() {

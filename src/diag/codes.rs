@@ -115,6 +115,17 @@ codes! {
     BAD_DURATION = "E0216": "a malformed `duration/3`";
     BAD_DECLARATION = "E0217": "a malformed declaration: `dynamic`, `discontiguous`, `mapping/2`, `resources/1`";
     BAD_CLAUSE_HEAD = "E0218": "a clause head that cannot be defined";
+    // Planning.
+    UNKNOWN_PROBLEM = "E0301": "no problem of that name";
+    AMBIGUOUS_PROBLEM = "E0302": "several problems and no `--problem`";
+    NO_PROBLEM = "E0303": "no problem to plan";
+    NO_PLAN = "E0304": "the search space holds no plan";
+    SEARCH_BUDGET = "E0305": "a search budget ran out";
+    UNREACHABLE_GOAL_RELAXED = "E0306": "a goal literal no sequence of actions can reach";
+    EXCLUSIVE_GOALS = "E0307": "goal literals that can never hold together";
+    CONDITION_ERROR = "E0308": "an OnKB goal failed with an error";
+    INVALID_PLAN = "E0309": "a plan step that does not apply";
+    BAD_PLAN_FILE = "E0310": "a plan file that cannot be read as steps";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";

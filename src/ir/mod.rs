@@ -4,4 +4,6 @@
 //! - [`unify`]: unification of HIR terms across items, for checks on the HIR.
 
 pub mod hir;
+pub mod plan;
+pub mod task;
 pub mod unify;

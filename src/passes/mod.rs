@@ -11,3 +11,4 @@
 pub mod check;
 pub mod load;
 pub mod lower;
+pub mod task;

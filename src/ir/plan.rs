@@ -1,0 +1,60 @@
+//! A total-order plan: snap actions in order, each a schema and the values of its variables.
+//!
+//! The plan is independent of the search's interning tables: names and values are HIR terms,
+//! so later stages (achievers, the temporal network) and the validator read it directly.
+
+use std::fmt::Write;
+
+use crate::intern::Interner;
+use crate::ir::hir::{self, Kb, Term, VarTable};
+
+/// One step of a plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// The schema's index in `Kb::actions`.
+    pub action: usize,
+    /// The ground action name, e.g. `grip_start(a1, b2)`.
+    pub name: Term,
+    /// The value of each schema variable; `None` for variables only Invalid conditions use.
+    pub bindings: Vec<Option<Term>>,
+}
+
+/// A total-order plan for one problem.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Plan {
+    /// The problem's index in `Kb::problems`.
+    pub problem: usize,
+    /// The steps, in order.
+    pub steps: Vec<Step>,
+}
+
+/// The plan as numbered lines, the paper's table style: `  1  grip_start(a1, b2)`.
+pub fn print(interner: &Interner, plan: &Plan) -> String {
+    let mut out = String::new();
+    let width = plan.steps.len().to_string().len();
+    let no_vars = VarTable::default();
+    for (i, step) in plan.steps.iter().enumerate() {
+        let _ = writeln!(out, "{:>width$}  {}", i + 1, hir::term_to_string(interner, &step.name, &no_vars));
+    }
+    out
+}
+
+/// Checks that every step names an action of the KB with a ground name and one value slot per
+/// schema variable. A failure is a compiler bug.
+pub fn verify(kb: &Kb, plan: &Plan) -> Result<(), String> {
+    if plan.problem >= kb.problems.len() {
+        return Err(format!("problem #{} does not exist", plan.problem));
+    }
+    for (i, step) in plan.steps.iter().enumerate() {
+        let Some(action) = kb.actions.get(step.action) else {
+            return Err(format!("step {}: action #{} does not exist", i + 1, step.action));
+        };
+        if !step.name.is_ground() {
+            return Err(format!("step {}: the name is not ground", i + 1));
+        }
+        if step.bindings.len() != action.vars.len() {
+            return Err(format!("step {}: {} values for {} variables", i + 1, step.bindings.len(), action.vars.len()));
+        }
+    }
+    Ok(())
+}

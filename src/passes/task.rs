@@ -1,0 +1,87 @@
+//! Pass `task`: one problem of the HIR becomes a planning task ([`Task`]).
+//!
+//! The high-level action schemas are compiled into patterns over their variables, with every
+//! ground subterm interned; the initial state's facts are interned into a [`State`]; the goal
+//! becomes a conjunction of patterns over its own variables. Nothing else is grounded: which
+//! actions apply is decided lifted, state by state, by `planner::successors`.
+
+use crate::ir::hir::{Kb, Level, Literal, Term};
+use crate::ir::task::{Const, ConstId, Consts, Facts, LiteralPattern, Pattern, Schema, State, Task};
+
+/// Compiles problem number `problem` of `kb`.
+pub fn build(kb: &Kb, problem: usize) -> Task {
+    let mut consts = Consts::default();
+    let mut facts = Facts::default();
+    let mut schemas = Vec::new();
+    for (index, action) in kb.actions.iter().enumerate() {
+        if action.level != Level::High {
+            continue;
+        }
+        let mut literal = |l: &Literal| compile_literal(&mut consts, &mut facts, l);
+        let valid = action.valid.iter().map(&mut literal).collect();
+        let invalid = action.invalid.iter().map(&mut literal).collect();
+        let effects = action.effects.iter().map(|e| (e.kind, literal(&e.literal))).collect();
+        schemas.push(Schema {
+            action: index,
+            name: compile(&mut consts, &action.name.term),
+            base: action.base,
+            snap: action.snap,
+            vars: action.vars.len(),
+            valid,
+            invalid,
+            invalid_at_end: action.invalid_at_end.iter().map(|l| l.term.clone()).collect(),
+            on_kb: action.on_kb.clone().into_boxed_slice(),
+            effects,
+        });
+    }
+    let problem_hir = &kb.problems[problem];
+    let init: Vec<_> = problem_hir
+        .init
+        .iter()
+        .filter_map(|l| {
+            let pred = facts.pred(l.name(), l.arity());
+            let args: Option<Vec<_>> = l.term.args().iter().map(|a| consts.from_term(a)).collect();
+            // Lowering keeps only ground init facts; a non-ground one is skipped defensively.
+            args.map(|args| facts.intern(pred, &args))
+        })
+        .collect();
+    let init = State::new(&facts, init, []);
+    let goal = problem_hir.goal.iter().map(|l| compile_literal(&mut consts, &mut facts, l)).collect();
+    Task {
+        problem,
+        consts,
+        facts,
+        schemas,
+        init,
+        goal,
+        goal_vars: problem_hir.vars.len(),
+        goal_terms: problem_hir.goal.iter().map(|l| l.term.clone()).collect(),
+        max_depth: problem_hir.max_depth,
+    }
+}
+
+fn compile(consts: &mut Consts, term: &Term) -> Pattern {
+    let constant = match term {
+        Term::Var(v) => return Pattern::Var(v.0),
+        Term::Atom(s) => Const::Atom(*s),
+        Term::Int(i) => Const::Int(*i),
+        Term::Float(f) => Const::Float(f.to_bits()),
+        Term::Str(s) => Const::Str(*s),
+        Term::Compound(f, args) => {
+            let args: Vec<Pattern> = args.iter().map(|a| compile(consts, a)).collect();
+            let ids: Option<Box<[ConstId]>> =
+                args.iter().map(|a| if let Pattern::Const(c) = a { Some(*c) } else { None }).collect();
+            match ids {
+                Some(ids) => Const::Compound(*f, ids),
+                None => return Pattern::Compound(*f, args.into_boxed_slice()),
+            }
+        }
+    };
+    Pattern::Const(consts.intern(constant))
+}
+
+fn compile_literal(consts: &mut Consts, facts: &mut Facts, literal: &Literal) -> LiteralPattern {
+    let pred = facts.pred(literal.name(), literal.arity());
+    let args = literal.term.args().iter().map(|a| compile(consts, a)).collect();
+    LiteralPattern { pred, args, span: literal.span }
+}

@@ -1,0 +1,401 @@
+//! Proofs that a problem has no solution, and why.
+//!
+//! Two analyses, both sound (they never call a solvable problem unsolvable):
+//!
+//! - [`exclusive_goals`]: invariant synthesis, a simplified form of Helmert's ("Concise
+//!   finite-domain representations for PDDL planning tasks", 2009). A group of predicates,
+//!   each with one *counted* argument, is an invariant when every action that adds a group
+//!   atom for some value of the counted argument also deletes a group atom for the same value
+//!   that its Valid list requires, and the initial state holds at most one atom per value. A
+//!   state then never holds two atoms of the group with the same value, so a goal that asks for
+//!   two (a block on the table at two cells, or both on the table and on a block) is
+//!   unreachable. In the standard blocks world the analysis finds that each block is in one of
+//!   `ontable/3`, `on/4` and `moving/6`, and each arm in one of its six states.
+//! - [`explain_unreachable`]: the delete relaxation explored to its fixpoint. A goal literal
+//!   it never reaches is unreachable however the actions are ordered. The explanation follows
+//!   the literal back through the schemas that could add it to the first condition that never
+//!   holds: a Valid literal itself unreachable (explained in turn), an OnKB goal that is not
+//!   provable, or an InvalidAtEnd condition that meets the goal.
+
+use super::relaxed::Relaxation;
+use super::successors::{OnKbCache, const_to_cell, match_pattern, substitute};
+use crate::diag::{Diagnostic, codes};
+use crate::engine::{Machine, Program};
+use crate::intern::Interner;
+use crate::ir::hir::{self, EffectKind, Kb, Term};
+use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Task};
+
+/// A predicate with one counted argument position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Member {
+    pred: PredId,
+    position: usize,
+}
+
+/// Why a candidate group is not balanced: an action adds an atom with counted term `term`
+/// without deleting a required group atom for it.
+struct Unbalanced {
+    schema: usize,
+    term: Pattern,
+}
+
+fn counted<'a>(group: &[Member], literal: &'a LiteralPattern) -> Option<&'a Pattern> {
+    group.iter().find(|m| m.pred == literal.pred).and_then(|m| literal.args.get(m.position))
+}
+
+/// Checks the balance condition of `group` on every schema.
+fn balance(task: &Task, group: &[Member]) -> Result<(), Option<Unbalanced>> {
+    for (index, schema) in task.schemas.iter().enumerate() {
+        let mut added: Vec<&Pattern> = Vec::new();
+        for (kind, literal) in schema.effects.iter() {
+            if *kind != EffectKind::Add {
+                continue;
+            }
+            let Some(term) = counted(group, literal) else { continue };
+            if added.contains(&term) {
+                return Err(None); // two atoms for one value: cannot be balanced by refinement
+            }
+            added.push(term);
+            let balanced = schema.effects.iter().any(|(k, deleted)| {
+                *k == EffectKind::Del
+                    && counted(group, deleted) == Some(term)
+                    && schema.valid.iter().any(|v| v.pred == deleted.pred && v.args == deleted.args)
+            });
+            if !balanced {
+                return Err(Some(Unbalanced { schema: index, term: term.clone() }));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// True if the initial state holds at most one atom of `group` per counted value.
+fn holds_initially(task: &Task, group: &[Member]) -> bool {
+    let mut seen: Vec<ConstId> = Vec::new();
+    for fact in task.init.facts() {
+        let pred = task.facts.pred_of(fact);
+        if let Some(member) = group.iter().find(|m| m.pred == pred) {
+            let value = task.facts.args(fact)[member.position];
+            if seen.contains(&value) {
+                return false;
+            }
+            seen.push(value);
+        }
+    }
+    true
+}
+
+/// The invariant groups of `task`, found by refining candidates from each added predicate.
+fn invariants(task: &Task) -> Vec<Vec<Member>> {
+    const MAX_GROUP: usize = 6;
+    let mut queue: Vec<Vec<Member>> = Vec::new();
+    for schema in &task.schemas {
+        for (kind, literal) in schema.effects.iter() {
+            if *kind == EffectKind::Add {
+                for position in 0..literal.args.len() {
+                    let seed = vec![Member { pred: literal.pred, position }];
+                    if !queue.contains(&seed) {
+                        queue.push(seed);
+                    }
+                }
+            }
+        }
+    }
+    let mut tried: Vec<Vec<Member>> = Vec::new();
+    let mut found: Vec<Vec<Member>> = Vec::new();
+    while let Some(group) = queue.pop() {
+        let mut key = group.clone();
+        key.sort();
+        if tried.contains(&key) || found.iter().any(|f| key.iter().all(|m| f.contains(m))) {
+            continue;
+        }
+        tried.push(key);
+        match balance(task, &group) {
+            Ok(()) => {
+                if holds_initially(task, &group) {
+                    found.push(group);
+                }
+            }
+            Err(Some(Unbalanced { schema, term })) if group.len() < MAX_GROUP => {
+                // Refine: add a deleted predicate whose argument carries the same term.
+                for (kind, deleted) in task.schemas[schema].effects.iter() {
+                    if *kind != EffectKind::Del || group.iter().any(|m| m.pred == deleted.pred) {
+                        continue;
+                    }
+                    for (position, arg) in deleted.args.iter().enumerate() {
+                        if *arg == term {
+                            let mut refined = group.clone();
+                            refined.push(Member { pred: deleted.pred, position });
+                            queue.push(refined);
+                        }
+                    }
+                }
+            }
+            Err(_) => {}
+        }
+    }
+    found
+}
+
+fn describe_group(interner: &Interner, task: &Task, group: &[Member]) -> String {
+    let mut parts: Vec<String> = group
+        .iter()
+        .map(|m| {
+            let (name, arity) = task.facts.pred_info(m.pred);
+            format!("`{}/{arity}` (argument {})", interner.resolve(name), m.position + 1)
+        })
+        .collect();
+    parts.sort();
+    crate::passes::lower::join_and(&parts)
+}
+
+/// Two goal literals that an invariant forbids together, as an E0307 diagnostic.
+pub fn exclusive_goals(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diagnostic> {
+    let problem = &kb.problems[task.problem];
+    let groups = invariants(task);
+    for group in &groups {
+        for (i, a) in task.goal.iter().enumerate() {
+            let Some(Pattern::Const(x)) = counted(group, a) else { continue };
+            for (j, b) in task.goal.iter().enumerate().skip(i + 1) {
+                let Some(Pattern::Const(y)) = counted(group, b) else { continue };
+                if x != y || (a.pred == b.pred && a.args == b.args) {
+                    continue;
+                }
+                let show = |k: usize| hir::term_to_string(interner, &problem.goal[k].term, &problem.vars);
+                let value = hir::term_to_string(interner, &task.consts.to_term(*x), &hir::VarTable::default());
+                return Some(
+                    Diagnostic::error(
+                        codes::EXCLUSIVE_GOALS,
+                        format!("goal literals `{}` and `{}` can never hold together", show(i), show(j)),
+                    )
+                    .primary(problem.goal[j].span, "this one")
+                    .secondary(problem.goal[i].span, "excludes this one")
+                    .with_note(format!(
+                        "every action keeps `{value}` in at most one of {}, and so does the initial state",
+                        describe_group(interner, task, group)
+                    ))
+                    .with_help("correct the goal: these facts are alternatives"),
+                );
+            }
+        }
+    }
+    None
+}
+
+/// Binds a schema's add literal to a target fact: ground arguments of the target constrain the
+/// schema's variables; variables of the target constrain nothing.
+fn bind_head(task: &Task, head: &LiteralPattern, target: &[Term], bindings: &mut [Option<ConstId>]) -> bool {
+    let mut trail = Vec::new();
+    for (pattern, wanted) in head.args.iter().zip(target) {
+        if !wanted.is_ground() {
+            continue;
+        }
+        let Some(value) = task.consts.find_term(wanted) else { return false };
+        if !match_pattern(pattern, value, &task.consts, bindings, &mut trail) {
+            return false;
+        }
+    }
+    true
+}
+
+struct Explainer<'a, 'p> {
+    kb: &'a Kb,
+    interner: &'a Interner,
+    relaxation: Relaxation,
+    machine: Machine<'p>,
+    cache: OnKbCache,
+    notes: Vec<String>,
+    labels: Vec<(crate::source::Span, String)>,
+}
+
+impl Explainer<'_, '_> {
+    /// Explains why no reachable fact matches `pred(target)`, whose variables are named by
+    /// `vars`; `depth` bounds the recursion.
+    fn why(&mut self, task: &mut Task, pred: PredId, target: &[Term], vars: &hir::VarTable, depth: usize) {
+        let (name, arity) = task.facts.pred_info(pred);
+        let shown = if arity == 0 {
+            self.interner.resolve(name).to_string()
+        } else {
+            hir::term_to_string(self.interner, &Term::Compound(name, target.to_vec().into_boxed_slice()), vars)
+        };
+        let producers: Vec<(usize, usize)> = task
+            .schemas
+            .iter()
+            .enumerate()
+            .flat_map(|(s, schema)| {
+                schema
+                    .effects
+                    .iter()
+                    .enumerate()
+                    .filter(move |(_, (k, l))| *k == EffectKind::Add && l.pred == pred)
+                    .map(move |(e, _)| (s, e))
+            })
+            .collect();
+        if producers.is_empty() {
+            let predicate = self.interner.resolve(name);
+            self.notes
+                .push(format!("no action adds `{predicate}/{arity}` facts, and the initial state has no `{shown}`"));
+            return;
+        }
+        for (s, e) in producers.into_iter().take(3) {
+            let schema = task.schemas[s].clone();
+            let action = &self.kb.actions[schema.action];
+            let action_name = self.interner.resolve(action.name.name()).to_string();
+            let mut bindings = vec![None; schema.vars];
+            if !bind_head(task, &schema.effects[e].1, target, &mut bindings) {
+                continue;
+            }
+            let blocked = schema.valid.iter().find(|l| !self.relaxation.reached(task, l, &bindings)).cloned();
+            if let Some(literal) = blocked {
+                let term = substitute(&task.literal_to_term(&literal), &task.consts, &bindings);
+                let literal_shown = hir::term_to_string(self.interner, &term, &action.vars);
+                self.notes.push(format!(
+                    "`{action_name}` would add `{shown}`, but needs `{literal_shown}`, which no reachable state has"
+                ));
+                self.labels.push((literal.span, format!("`{literal_shown}` is never reached")));
+                if depth > 0 {
+                    let args: Vec<Term> = term.args().to_vec();
+                    let vars = action.vars.clone();
+                    self.why(task, literal.pred, &args, &vars, depth - 1);
+                }
+                return;
+            }
+            if let Some(goal) = self.failing_on_kb_goal(task, s, &bindings) {
+                let goal_shown =
+                    hir::term_to_string(self.interner, &substitute(&goal.term, &task.consts, &bindings), &action.vars);
+                self.notes.push(format!(
+                    "`{action_name}` would add `{shown}`, but its OnKB goal `{goal_shown}` is not provable from the KB"
+                ));
+                self.labels.push((goal.span, format!("`{goal_shown}` is not provable")));
+                return;
+            }
+            self.notes
+                .push(format!("`{action_name}` would add `{shown}`, but its conditions never hold together for it"));
+            self.labels.push((action.name.span, "never applicable for this".to_string()));
+            return;
+        }
+    }
+
+    /// The first OnKB goal of schema `s` that no solution of the goals before it satisfies,
+    /// under `bindings`; `None` if they all have solutions (or the engine fails).
+    fn failing_on_kb_goal(&mut self, task: &Task, s: usize, bindings: &[Option<ConstId>]) -> Option<hir::Literal> {
+        use crate::engine::{Cell, Next};
+        use crate::intern::sym;
+        let schema = &task.schemas[s];
+        for k in 1..=schema.on_kb.len() {
+            self.machine.reset();
+            let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
+            for (v, value) in bindings.iter().enumerate() {
+                if let Some(value) = value {
+                    cells[v] = Some(const_to_cell(&mut self.machine, &task.consts, *value));
+                }
+            }
+            let mut goal = Cell::Atom(sym::TRUE);
+            for g in schema.on_kb[..k].iter().rev() {
+                let cell = self.machine.put_goal(g, &mut cells);
+                goal = if goal == Cell::Atom(sym::TRUE) {
+                    cell
+                } else {
+                    self.machine.new_compound(sym::COMMA, &[cell, goal])
+                };
+            }
+            let mut found = false;
+            let solved = self.machine.solve(goal, |_| {
+                found = true;
+                Next::Stop
+            });
+            if solved.is_err() {
+                return None;
+            }
+            if !found {
+                let mut first = None;
+                schema.on_kb[k - 1].for_each_call(&mut |l| {
+                    first.get_or_insert_with(|| l.clone());
+                });
+                return first;
+            }
+        }
+        None
+    }
+}
+
+/// A goal literal unreachable even ignoring deletions, as an E0306 diagnostic with the reason;
+/// `None` if every goal literal is reachable that way.
+pub fn explain_unreachable(
+    kb: &Kb,
+    task: &mut Task,
+    program: &Program,
+    interner: &Interner,
+    engine_steps: u64,
+) -> Option<Diagnostic> {
+    let mut explainer = Explainer {
+        kb,
+        interner,
+        relaxation: Relaxation::unprojected(task),
+        machine: Machine::new(program, engine_steps),
+        cache: OnKbCache::new(task),
+        notes: Vec::new(),
+        labels: Vec::new(),
+    };
+    let init = task.init.clone();
+    let Explainer { relaxation, machine, cache, .. } = &mut explainer;
+    relaxation.evaluate_all(task, &init, machine, cache).ok()?;
+    let unreached = explainer.relaxation.unreached_goals().to_vec();
+    let &first = unreached.first()?;
+    let problem = &kb.problems[task.problem];
+    let goal = &problem.goal[first];
+    let shown = hir::term_to_string(interner, &goal.term, &problem.vars);
+    let literal = task.goal[first].clone();
+    let target: Vec<Term> = goal.term.args().to_vec();
+    explainer.why(task, literal.pred, &target, &problem.vars, 3);
+    let mut diagnostic =
+        Diagnostic::error(codes::UNREACHABLE_GOAL_RELAXED, format!("goal `{shown}` can never be reached"))
+            .primary(goal.span, "no sequence of actions makes this true")
+            .with_note("even ignoring every deletion, the actions never produce it from the initial state");
+    for note in explainer.notes {
+        diagnostic = diagnostic.with_note(note);
+    }
+    for (span, label) in explainer.labels {
+        diagnostic = diagnostic.secondary(span, label);
+    }
+    if unreached.len() > 1 {
+        let others: Vec<String> = unreached[1..]
+            .iter()
+            .map(|&g| format!("`{}`", hir::term_to_string(interner, &problem.goal[g].term, &problem.vars)))
+            .collect();
+        diagnostic = diagnostic.with_note(format!("also unreachable: {}", crate::passes::lower::join_and(&others)));
+    }
+    Some(diagnostic.with_help("correct the goal, or the actions and KB facts it depends on"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::passes::load::MemoryLoader;
+    use crate::source::SourceDb;
+
+    fn task(goals: &str) -> (crate::driver::Frontend, Task) {
+        let mut db = SourceDb::new();
+        let id = db.add("goals.pl", None, goals.to_string());
+        let frontend = crate::driver::frontend(&mut db, &[id], &mut MemoryLoader::default());
+        assert!(!frontend.diagnostics.has_errors(), "{:?}", frontend.diagnostics);
+        let task = crate::passes::task::build(&frontend.kb, 0);
+        (frontend, task)
+    }
+
+    #[test]
+    fn the_blocks_world_keeps_each_block_in_one_place() {
+        let (frontend, task) = task("t :- go([available(a1), ontable(b1, 1, 1), clear(b1)], [ontable(b1, 2, 2)]).\n");
+        let groups = invariants(&task);
+        let names = |g: &Vec<Member>| {
+            let mut n: Vec<String> = g
+                .iter()
+                .map(|m| format!("{}@{}", frontend.interner.resolve(task.facts.pred_info(m.pred).0), m.position))
+                .collect();
+            n.sort();
+            n.join(",")
+        };
+        let found: Vec<String> = groups.iter().map(names).collect();
+        assert!(found.contains(&"moving@1,on@0,ontable@0".to_string()), "{found:?}");
+    }
+}

@@ -1,0 +1,252 @@
+//! The planner: finds a total-order plan of snap actions for one problem.
+//!
+//! Two searches share the lifted action semantics of [`successors`]:
+//!
+//! - [`paper`]: the paper's Algorithm 1, faithfully: depth-first in clause order, a depth
+//!   limit, the path's states as a been-list, the first plan found;
+//! - [`best_first`]: greedy best-first search guided by a delete-relaxation heuristic
+//!   ([`relaxed`]), with duplicate detection and a cost that counts the plan's makespan.
+//!
+//! Every search runs under a [`Budget`] (states, time, memory) and reports [`Stats`]. The
+//! planner does no IO; progress reports go through a callback the CLI supplies.
+
+pub mod analysis;
+pub mod best_first;
+pub mod paper;
+pub mod relaxed;
+pub mod successors;
+
+use std::time::{Duration, Instant};
+
+use crate::engine::{Machine, Program};
+use crate::ir::hir::Kb;
+use crate::ir::plan::{Plan, Step};
+use crate::ir::task::Task;
+use successors::{Applicable, ConditionError, Successors};
+
+/// Which search to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SearchKind {
+    /// The paper's depth-first search.
+    Paper,
+    /// Greedy best-first search with a delete-relaxation heuristic.
+    Heuristic,
+}
+
+/// Limits on a search.
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// The most states to expand.
+    pub max_states: u64,
+    /// When to give up.
+    pub deadline: Option<Instant>,
+    /// The most bytes of stored states.
+    pub max_bytes: usize,
+    /// The most resolution steps for one OnKB query.
+    pub engine_steps: u64,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Budget { max_states: 1_000_000, deadline: None, max_bytes: 2 << 30, engine_steps: 1_000_000 }
+    }
+}
+
+/// What a search should do.
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    /// The search.
+    pub search: SearchKind,
+    /// The depth limit of the paper's search; the problem's `go/5` value or 25 when `None`.
+    pub max_depth: Option<u32>,
+    /// Limits.
+    pub budget: Budget,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default() }
+    }
+}
+
+/// The paper's default depth limit.
+pub const DEFAULT_MAX_DEPTH: u32 = 25;
+
+/// Figures of a search.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// States whose successors were generated.
+    pub expanded: u64,
+    /// Successor states generated.
+    pub generated: u64,
+    /// Heuristic evaluations.
+    pub evaluated: u64,
+    /// Wall-clock time.
+    pub elapsed: Duration,
+    /// The most bytes of states stored at once.
+    pub peak_bytes: usize,
+}
+
+/// Which budget ran out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BudgetKind {
+    /// `--max-states`.
+    States,
+    /// `--timeout`.
+    Time,
+    /// The memory ceiling.
+    Memory,
+}
+
+/// Why no plan came back.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    /// Every state the search may visit was visited: no plan exists (within the depth limit,
+    /// for the paper's search).
+    Exhausted {
+        /// The depth limit, for the paper's search.
+        depth_limit: Option<u32>,
+    },
+    /// A budget ran out first.
+    Budget(BudgetKind),
+    /// Proving an OnKB goal failed (an arithmetic error, say).
+    Condition(ConditionError),
+    /// The analysis proved the problem unsolvable; the diagnostic says why.
+    Unsolvable(Box<crate::diag::Diagnostic>),
+}
+
+/// A search's result and figures.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The plan, or why there is none.
+    pub result: Result<Plan, Failure>,
+    /// What the search did.
+    pub stats: Stats,
+}
+
+/// Receives progress reports during long searches.
+pub trait Progress {
+    /// Called now and then with the figures so far.
+    fn report(&mut self, stats: &Stats);
+}
+
+/// A progress receiver that ignores everything.
+pub struct Silent;
+
+impl Progress for Silent {
+    fn report(&mut self, _stats: &Stats) {}
+}
+
+/// The program a problem's OnKB goals are proven against: the KB plus the goal's facts.
+pub fn program_for(kb: &Kb, problem: usize) -> Program {
+    let problem = &kb.problems[problem];
+    let goal_facts: Vec<_> = problem.goal.iter().map(|l| (l, &problem.vars)).collect();
+    Program::new(kb, &goal_facts)
+}
+
+/// Runs the chosen search on `task`.
+///
+/// Before searching, two analyses look for a proof that the problem has no solution: goal
+/// literals an invariant forbids together, and goal literals the delete relaxation never
+/// reaches. Either ends the search at once with a diagnostic that says why.
+pub fn search(
+    kb: &Kb,
+    interner: &crate::intern::Interner,
+    task: &mut Task,
+    options: &Options,
+    progress: &mut dyn Progress,
+) -> Outcome {
+    let started = Instant::now();
+    let program = program_for(kb, task.problem);
+    if let Some(diagnostic) = analysis::exclusive_goals(kb, task, interner) {
+        let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
+        return Outcome { result: Err(Failure::Unsolvable(Box::new(diagnostic))), stats };
+    }
+    let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
+    let init = task.init.clone();
+    let root = {
+        let mut relaxation = relaxed::Relaxation::new(task);
+        let (machine, cache) = successors.parts();
+        relaxation.evaluate(task, &init, machine, cache, false)
+    };
+    match root {
+        Err(error) => {
+            let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
+            return Outcome { result: Err(Failure::Condition(error)), stats };
+        }
+        Ok(estimate) if estimate.h_add.is_none() => {
+            let explained = analysis::explain_unreachable(kb, task, &program, interner, options.budget.engine_steps);
+            let stats = Stats { elapsed: started.elapsed(), evaluated: 1, ..Stats::default() };
+            let result = match explained {
+                Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
+                None => Failure::Exhausted { depth_limit: None },
+            };
+            return Outcome { result: Err(result), stats };
+        }
+        Ok(_) => {}
+    }
+    let mut outcome = match options.search {
+        SearchKind::Paper => {
+            let limit = options.max_depth.or(task.max_depth).unwrap_or(DEFAULT_MAX_DEPTH);
+            paper::search(task, successors, limit, &options.budget, progress)
+        }
+        SearchKind::Heuristic => best_first::search(task, successors, &options.budget, progress),
+    };
+    outcome.stats.elapsed = started.elapsed();
+    outcome
+}
+
+/// Turns the applicable actions along a path into a plan.
+pub(crate) fn plan_from(task: &Task, path: &[Applicable]) -> Plan {
+    let steps = path
+        .iter()
+        .map(|a| Step {
+            action: task.schemas[a.schema].action,
+            name: successors::action_name(task, a),
+            bindings: successors::action_bindings(task, a),
+        })
+        .collect();
+    Plan { problem: task.problem, steps }
+}
+
+/// Checks the time and memory budgets; the states budget is checked by each search.
+pub(crate) fn over_budget(budget: &Budget, stats: &Stats, bytes: usize) -> Option<BudgetKind> {
+    if bytes > budget.max_bytes {
+        return Some(BudgetKind::Memory);
+    }
+    if stats.expanded >= budget.max_states {
+        return Some(BudgetKind::States);
+    }
+    if stats.expanded % 64 == 0 && budget.deadline.is_some_and(|d| Instant::now() >= d) {
+        return Some(BudgetKind::Time);
+    }
+    None
+}
+
+/// The states a plan passes through, after each of its steps, replayed with the search's own
+/// semantics (for `--trace`). Stops early at a step that names no applicable action.
+pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
+    let mut states = Vec::new();
+    let mut state = task.init.clone();
+    for step in &plan.steps {
+        let Some(schema) = task.schemas.iter().position(|s| s.action == step.action) else { break };
+        let bindings: Option<Box<[Option<crate::ir::task::ConstId>]>> = step
+            .bindings
+            .iter()
+            .map(|b| match b {
+                Some(term) => task.consts.from_term(term).map(Some),
+                None => Some(None),
+            })
+            .collect();
+        let Some(bindings) = bindings else { break };
+        let ends = match task.schemas[schema].snap {
+            crate::ir::hir::Snap::End => {
+                successors::running_instance(&task.schemas[schema].clone(), &mut task.consts, &bindings)
+            }
+            _ => None,
+        };
+        state = successors::apply(task, &state, &Applicable { schema, bindings, ends });
+        states.push(state.clone());
+    }
+    states
+}

@@ -1,0 +1,93 @@
+//! The paper's search (its Algorithm 1), faithfully.
+//!
+//! ```text
+//! plan(State, Goal, Been, Actions, MaxDepth):
+//!     if State satisfies Goal: return Actions
+//!     if length(Actions) < MaxDepth:
+//!         for each action applicable in State, in clause order:
+//!             Child = apply(action, State)
+//!             if Child satisfies Goal or Child is not in Been:
+//!                 plan(Child, Goal, Been + Child, Actions + action, MaxDepth)
+//! ```
+//!
+//! The been-list holds the states of the current path (Prolog discards it on backtracking), so
+//! the search avoids cycles but revisits states reached along other paths: it is uninformed
+//! and exponential, which is the point of comparing against it. It runs on an explicit stack,
+//! so a deep search cannot overflow the native one.
+
+use rustc_hash::FxHashSet;
+
+use super::successors::{self, Applicable, Successors};
+use super::{Budget, Failure, Outcome, Progress, Stats, over_budget, plan_from};
+use crate::ir::task::{State, Task};
+
+struct Frame {
+    state: State,
+    actions: Vec<Applicable>,
+    next: usize,
+}
+
+/// Depth-first search to depth `limit`.
+pub fn search(
+    task: &mut Task,
+    mut successors: Successors<'_>,
+    limit: u32,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Outcome {
+    let mut stats = Stats::default();
+    let init = task.init.clone();
+    if successors::goal_reached(task, &init) {
+        return Outcome { result: Ok(plan_from(task, &[])), stats };
+    }
+    let mut path: Vec<Applicable> = Vec::new();
+    let mut on_path: FxHashSet<State> = FxHashSet::default();
+    let mut bytes = init.footprint();
+    on_path.insert(init.clone());
+    let mut actions = Vec::new();
+    if let Err(error) = successors.applicable(task, &init, &mut actions) {
+        return Outcome { result: Err(Failure::Condition(error)), stats };
+    }
+    let mut stack = vec![Frame { state: init, actions, next: 0 }];
+    stats.expanded = 1;
+    loop {
+        let Some(frame) = stack.last_mut() else {
+            return Outcome { result: Err(Failure::Exhausted { depth_limit: Some(limit) }), stats };
+        };
+        let Some(action) = frame.actions.get(frame.next).cloned() else {
+            let frame = stack.pop().expect("the stack is not empty here");
+            on_path.remove(&frame.state);
+            bytes -= frame.state.footprint();
+            path.pop();
+            continue;
+        };
+        frame.next += 1;
+        let child = successors::apply(task, &frame.state, &action);
+        stats.generated += 1;
+        if successors::goal_reached(task, &child) {
+            path.push(action);
+            return Outcome { result: Ok(plan_from(task, &path)), stats };
+        }
+        if on_path.contains(&child) || stack.len() as u32 >= limit {
+            // A state already on the path, or the depth limit: the paper backtracks.
+            continue;
+        }
+        if let Some(kind) = over_budget(budget, &stats, bytes) {
+            stats.peak_bytes = stats.peak_bytes.max(bytes);
+            return Outcome { result: Err(Failure::Budget(kind)), stats };
+        }
+        let mut actions = Vec::new();
+        if let Err(error) = successors.applicable(task, &child, &mut actions) {
+            return Outcome { result: Err(Failure::Condition(error)), stats };
+        }
+        stats.expanded += 1;
+        if stats.expanded % 4096 == 0 {
+            progress.report(&stats);
+        }
+        bytes += child.footprint();
+        stats.peak_bytes = stats.peak_bytes.max(bytes);
+        on_path.insert(child.clone());
+        path.push(action);
+        stack.push(Frame { state: child, actions, next: 0 });
+    }
+}

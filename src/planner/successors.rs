@@ -1,0 +1,514 @@
+//! Which actions apply in a state, and what applying one gives: the paper's action semantics,
+//! evaluated lifted.
+//!
+//! For each schema, in clause order:
+//! 1. an end `X_end(Args)` only applies to a running `X_start(Args)`: its arguments are bound
+//!    from each running instance in turn;
+//! 2. the Valid literals are joined against the state's facts, in order, binding variables
+//!    (a nested-loop join over each literal's predicate range, backtracking on mismatch);
+//! 3. the OnKB goals are proven by the resolution engine against the KB and the goal's facts,
+//!    each solution binding more variables;
+//! 4. no state fact may match an Invalid literal (its unbound variables are existential), and
+//!    no goal literal may unify with an InvalidAtEnd literal.
+//!
+//! Solutions come out in a fixed order (schemas in clause order, facts in state order, engine
+//! solutions in Prolog order), which the paper's depth-first search relies on and which makes
+//! every search deterministic.
+
+use crate::engine::{Cell, EngineError, Machine, Next};
+use crate::intern::sym;
+use crate::ir::hir::{EffectKind, Snap, Term};
+use crate::ir::task::{Const, ConstId, Consts, FactId, Facts, LiteralPattern, Pattern, Schema, State, Task};
+use crate::ir::unify::unifiable;
+
+/// An applicable action: a schema and the values of its variables (`None` where a variable
+/// only occurs in Invalid conditions).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Applicable {
+    /// The schema's index in `Task::schemas`.
+    pub schema: usize,
+    /// A value per schema variable.
+    pub bindings: Box<[Option<ConstId>]>,
+    /// For an end, the running start it ends.
+    pub ends: Option<ConstId>,
+}
+
+/// A failure of the engine while proving an OnKB goal of a schema.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConditionError {
+    /// The schema whose OnKB goals failed.
+    pub schema: usize,
+    /// What went wrong.
+    pub error: EngineError,
+}
+
+/// Binds a pattern to a ground constant, recording new bindings on `trail`.
+pub fn match_pattern(
+    pattern: &Pattern,
+    value: ConstId,
+    consts: &Consts,
+    bindings: &mut [Option<ConstId>],
+    trail: &mut Vec<u32>,
+) -> bool {
+    match pattern {
+        Pattern::Const(c) => *c == value,
+        Pattern::Var(v) => match bindings[*v as usize] {
+            Some(bound) => bound == value,
+            None => {
+                bindings[*v as usize] = Some(value);
+                trail.push(*v);
+                true
+            }
+        },
+        Pattern::Compound(f, args) => match consts.get(value) {
+            Const::Compound(g, values) if g == f && values.len() == args.len() => {
+                let values = values.clone();
+                args.iter().zip(values.iter()).all(|(a, v)| match_pattern(a, *v, consts, bindings, trail))
+            }
+            _ => false,
+        },
+    }
+}
+
+/// Undoes the bindings recorded on `trail` after `mark`.
+pub fn undo(bindings: &mut [Option<ConstId>], trail: &mut Vec<u32>, mark: usize) {
+    for v in trail.drain(mark..) {
+        bindings[v as usize] = None;
+    }
+}
+
+/// Matches a literal's arguments against a fact's.
+pub fn match_literal(
+    literal: &LiteralPattern,
+    fact: FactId,
+    consts: &Consts,
+    facts: &Facts,
+    bindings: &mut [Option<ConstId>],
+    trail: &mut Vec<u32>,
+) -> bool {
+    let values = facts.args(fact);
+    literal.args.iter().zip(values).all(|(p, v)| match_pattern(p, *v, consts, bindings, trail))
+}
+
+/// Instantiates a pattern whose variables are all bound.
+pub fn instantiate(pattern: &Pattern, consts: &mut Consts, bindings: &[Option<ConstId>]) -> Option<ConstId> {
+    match pattern {
+        Pattern::Const(c) => Some(*c),
+        Pattern::Var(v) => bindings[*v as usize],
+        Pattern::Compound(f, args) => {
+            let values = args.iter().map(|a| instantiate(a, consts, bindings)).collect::<Option<Box<[ConstId]>>>()?;
+            Some(consts.intern(Const::Compound(*f, values)))
+        }
+    }
+}
+
+/// A term with bound schema variables replaced by their values.
+pub(crate) fn substitute(pattern_term: &Term, consts: &Consts, bindings: &[Option<ConstId>]) -> Term {
+    match pattern_term {
+        Term::Var(v) => match bindings.get(v.0 as usize).copied().flatten() {
+            Some(c) => consts.to_term(c),
+            None => Term::Var(*v),
+        },
+        Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| substitute(a, consts, bindings)).collect()),
+        other => other.clone(),
+    }
+}
+
+/// Places a constant on the engine's heap.
+pub fn const_to_cell(machine: &mut Machine<'_>, consts: &Consts, value: ConstId) -> Cell {
+    match consts.get(value) {
+        Const::Atom(s) => Cell::Atom(*s),
+        Const::Int(i) => Cell::Int(*i),
+        Const::Float(bits) => Cell::Float(f64::from_bits(*bits)),
+        Const::Str(s) => Cell::Str(*s),
+        Const::Compound(f, args) => {
+            let (f, args) = (*f, args.clone());
+            let cells: Vec<Cell> = args.iter().map(|a| const_to_cell(machine, consts, *a)).collect();
+            machine.new_compound(f, &cells)
+        }
+    }
+}
+
+/// Reads a ground cell back as a constant; `None` if it holds a variable.
+pub fn cell_to_const(machine: &Machine<'_>, consts: &mut Consts, cell: Cell) -> Option<ConstId> {
+    let value = match machine.deref(cell) {
+        Cell::Ref(_) | Cell::Functor(..) => return None,
+        Cell::Atom(s) => Const::Atom(s),
+        Cell::Int(i) => Const::Int(i),
+        Cell::Float(f) => Const::Float(f.to_bits()),
+        Cell::Str(s) => Const::Str(s),
+        Cell::Struct(_) => {
+            let (f, args) = machine.compound(cell)?;
+            let args: Vec<Cell> = args.to_vec();
+            let values = args.iter().map(|a| cell_to_const(machine, consts, *a)).collect::<Option<Box<[ConstId]>>>()?;
+            Const::Compound(f, values)
+        }
+    };
+    Some(consts.intern(value))
+}
+
+/// The solutions of one OnKB query: for each, the values of the OnKB variables it binds.
+pub type OnKbSolutions = std::rc::Rc<[Box<[Option<ConstId>]>]>;
+
+/// A schema and the values of its OnKB variables (`None` for unbound).
+type OnKbKey = (u32, Box<[Option<ConstId>]>);
+
+/// Solutions of the schemas' OnKB goals, remembered across states.
+///
+/// The KB does not change during a search, so the solutions of a schema's OnKB goals depend
+/// only on the values of their variables that are already bound: each such combination is
+/// proven once by the engine and then looked up. A solution gives a value (or `None`, if the
+/// engine left it unbound) to each OnKB variable that was unbound.
+#[derive(Default)]
+pub struct OnKbCache {
+    /// Per schema: its OnKB variables, in order.
+    vars: Vec<Box<[u32]>>,
+    /// (schema, values of its OnKB variables, `None` for unbound) to solutions.
+    map: rustc_hash::FxHashMap<OnKbKey, OnKbSolutions>,
+}
+
+impl OnKbCache {
+    /// A cache for `task`'s schemas.
+    pub fn new(task: &Task) -> OnKbCache {
+        let vars = task
+            .schemas
+            .iter()
+            .map(|schema| {
+                let mut vars = Vec::new();
+                for goal in schema.on_kb.iter() {
+                    goal.for_each_call(&mut |l| {
+                        l.term.for_each_var(&mut |v| {
+                            if !vars.contains(&v.0) {
+                                vars.push(v.0);
+                            }
+                        })
+                    });
+                }
+                vars.into_boxed_slice()
+            })
+            .collect();
+        OnKbCache { vars, map: Default::default() }
+    }
+
+    /// The OnKB variables of schema `index`.
+    pub fn vars(&self, index: usize) -> &[u32] {
+        &self.vars[index]
+    }
+
+    /// The solutions of schema `index`'s OnKB goals under `bindings`: for each, the values of
+    /// the OnKB variables unbound in `bindings`, in the order of [`OnKbCache::vars`].
+    pub fn solutions(
+        &mut self,
+        machine: &mut Machine<'_>,
+        consts: &mut Consts,
+        schema: &Schema,
+        index: usize,
+        bindings: &[Option<ConstId>],
+    ) -> Result<OnKbSolutions, EngineError> {
+        let vars = &self.vars[index];
+        let key: Box<[Option<ConstId>]> = vars.iter().map(|&v| bindings[v as usize]).collect();
+        if let Some(found) = self.map.get(&(index as u32, key.clone())) {
+            return Ok(found.clone());
+        }
+        machine.reset();
+        let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
+        for &v in vars.iter() {
+            if let Some(value) = bindings[v as usize] {
+                cells[v as usize] = Some(const_to_cell(machine, consts, value));
+            }
+        }
+        let mut goal = Cell::Atom(sym::TRUE);
+        for g in schema.on_kb.iter().rev() {
+            let cell = machine.put_goal(g, &mut cells);
+            goal = if goal == Cell::Atom(sym::TRUE) { cell } else { machine.new_compound(sym::COMMA, &[cell, goal]) };
+        }
+        let unbound: Vec<Cell> = vars
+            .iter()
+            .filter(|&&v| bindings[v as usize].is_none())
+            .map(|&v| cells[v as usize].unwrap_or(Cell::Atom(sym::ANON)))
+            .collect();
+        let mut solutions: Vec<Box<[Option<ConstId>]>> = Vec::new();
+        machine.solve(goal, |m| {
+            solutions.push(unbound.iter().map(|cell| cell_to_const(m, consts, *cell)).collect());
+            Next::More
+        })?;
+        let solutions: OnKbSolutions = solutions.into();
+        self.map.insert((index as u32, key), solutions.clone());
+        Ok(solutions)
+    }
+}
+
+/// Finds applicable actions; owns the scratch space the search reuses state after state.
+pub struct Successors<'p> {
+    machine: Machine<'p>,
+    cache: OnKbCache,
+    bindings: Vec<Option<ConstId>>,
+    trail: Vec<u32>,
+}
+
+impl<'p> Successors<'p> {
+    /// A generator for `task`, proving OnKB goals with `machine`.
+    pub fn new(task: &Task, machine: Machine<'p>) -> Successors<'p> {
+        Successors { machine, cache: OnKbCache::new(task), bindings: Vec::new(), trail: Vec::new() }
+    }
+
+    /// The engine and the OnKB cache, for the heuristic's relaxed exploration.
+    pub fn parts(&mut self) -> (&mut Machine<'p>, &mut OnKbCache) {
+        (&mut self.machine, &mut self.cache)
+    }
+
+    /// Every action applicable in `state`, in the fixed order described in the module docs.
+    pub fn applicable(
+        &mut self,
+        task: &mut Task,
+        state: &State,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
+        out.clear();
+        for index in 0..task.schemas.len() {
+            self.schema(task, index, state, out)?;
+        }
+        Ok(())
+    }
+
+    /// The applicable instances of one schema.
+    pub fn schema(
+        &mut self,
+        task: &mut Task,
+        index: usize,
+        state: &State,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
+        let Task { consts, facts, schemas, goal_terms, .. } = task;
+        let schema = &schemas[index];
+        self.bindings.clear();
+        self.bindings.resize(schema.vars, None);
+        self.trail.clear();
+        let mut context = Context { consts, facts, goal_terms, schema, index, state, out };
+        if schema.snap == Snap::End {
+            for &running in state.running.iter() {
+                let mark = self.trail.len();
+                if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
+                    self.valid(&mut context, 0, Some(running))?;
+                }
+                undo(&mut self.bindings, &mut self.trail, mark);
+            }
+            return Ok(());
+        }
+        self.valid(&mut context, 0, None)
+    }
+
+    fn valid(&mut self, cx: &mut Context<'_>, position: usize, ends: Option<ConstId>) -> Result<(), ConditionError> {
+        let Some(literal) = cx.schema.valid.get(position) else {
+            return self.on_kb(cx, ends);
+        };
+        for fact in cx.state.facts_of(literal.pred) {
+            let mark = self.trail.len();
+            if match_literal(literal, fact, cx.consts, cx.facts, &mut self.bindings, &mut self.trail) {
+                self.valid(cx, position + 1, ends)?;
+            }
+            undo(&mut self.bindings, &mut self.trail, mark);
+        }
+        Ok(())
+    }
+
+    fn on_kb(&mut self, cx: &mut Context<'_>, ends: Option<ConstId>) -> Result<(), ConditionError> {
+        if cx.schema.on_kb.is_empty() {
+            self.finish(cx, ends);
+            return Ok(());
+        }
+        let solutions = self
+            .cache
+            .solutions(&mut self.machine, cx.consts, cx.schema, cx.index, &self.bindings)
+            .map_err(|error| ConditionError { schema: cx.index, error })?;
+        let unbound: Vec<u32> =
+            self.cache.vars(cx.index).iter().copied().filter(|&v| self.bindings[v as usize].is_none()).collect();
+        for solution in solutions.iter() {
+            let mark = self.trail.len();
+            for (&v, value) in unbound.iter().zip(solution.iter()) {
+                if let Some(value) = value {
+                    self.bindings[v as usize] = Some(*value);
+                    self.trail.push(v);
+                }
+            }
+            self.finish(cx, ends);
+            undo(&mut self.bindings, &mut self.trail, mark);
+        }
+        Ok(())
+    }
+
+    /// Checks Invalid and InvalidAtEnd and records the action.
+    fn finish(&mut self, cx: &mut Context<'_>, ends: Option<ConstId>) {
+        // The name and the effects must be ground to be applied.
+        if !pattern_bound(&cx.schema.name, &self.bindings)
+            || cx.schema.effects.iter().any(|(_, l)| !l.args.iter().all(|a| pattern_bound(a, &self.bindings)))
+        {
+            return;
+        }
+        for literal in cx.schema.invalid.iter() {
+            for fact in cx.state.facts_of(literal.pred) {
+                let mark = self.trail.len();
+                let matches = match_literal(literal, fact, cx.consts, cx.facts, &mut self.bindings, &mut self.trail);
+                undo(&mut self.bindings, &mut self.trail, mark);
+                if matches {
+                    return;
+                }
+            }
+        }
+        for forbidden in cx.schema.invalid_at_end.iter() {
+            let forbidden = substitute(forbidden, cx.consts, &self.bindings);
+            if cx.goal_terms.iter().any(|goal| unifiable(&forbidden, goal)) {
+                return;
+            }
+        }
+        cx.out.push(Applicable { schema: cx.index, bindings: self.bindings.clone().into_boxed_slice(), ends });
+    }
+}
+
+/// What one schema's matching needs, borrowed from the task.
+struct Context<'a> {
+    consts: &'a mut Consts,
+    facts: &'a Facts,
+    goal_terms: &'a [Term],
+    schema: &'a Schema,
+    index: usize,
+    state: &'a State,
+    out: &'a mut Vec<Applicable>,
+}
+
+fn pattern_bound(pattern: &Pattern, bindings: &[Option<ConstId>]) -> bool {
+    match pattern {
+        Pattern::Const(_) => true,
+        Pattern::Var(v) => bindings[*v as usize].is_some(),
+        Pattern::Compound(_, args) => args.iter().all(|a| pattern_bound(a, bindings)),
+    }
+}
+
+/// Binds an end's name arguments from a running start `base(args)`.
+fn name_matches_running(
+    schema: &Schema,
+    running: ConstId,
+    consts: &Consts,
+    bindings: &mut [Option<ConstId>],
+    trail: &mut Vec<u32>,
+) -> bool {
+    let name_args: &[Pattern] = match &schema.name {
+        Pattern::Compound(_, args) => args,
+        _ => &[],
+    };
+    match consts.get(running) {
+        Const::Atom(base) => *base == schema.base && name_args.is_empty(),
+        Const::Compound(base, values) if *base == schema.base && values.len() == name_args.len() => {
+            let values = values.clone();
+            name_args.iter().zip(values.iter()).all(|(p, v)| match_pattern(p, *v, consts, bindings, trail))
+        }
+        // A ground name pattern (a start with constant arguments) compiled to a constant.
+        Const::Compound(base, values) if *base == schema.base => match &schema.name {
+            Pattern::Const(c) => match consts.get(*c) {
+                Const::Compound(_, own) => own[..] == values[..],
+                _ => false,
+            },
+            _ => false,
+        },
+        _ => false,
+    }
+}
+
+/// The running-action constant `base(args)` of a start.
+pub fn running_instance(schema: &Schema, consts: &mut Consts, bindings: &[Option<ConstId>]) -> Option<ConstId> {
+    let args: Vec<ConstId> = match &schema.name {
+        Pattern::Compound(_, args) => args.iter().map(|a| instantiate(a, consts, bindings)).collect::<Option<_>>()?,
+        Pattern::Const(c) => match consts.get(*c).clone() {
+            Const::Compound(_, args) => args.to_vec(),
+            _ => Vec::new(),
+        },
+        Pattern::Var(_) => return None,
+    };
+    Some(if args.is_empty() {
+        consts.intern(Const::Atom(schema.base))
+    } else {
+        consts.intern(Const::Compound(schema.base, args.into_boxed_slice()))
+    })
+}
+
+/// The state after applying `action` to `state`: effects in list order, then the running
+/// set updated (a start begins, an end finishes its start).
+pub fn apply(task: &mut Task, state: &State, action: &Applicable) -> State {
+    let Task { consts, facts, schemas, .. } = task;
+    let schema = &schemas[action.schema];
+    let mut current: Vec<FactId> = state.facts().collect();
+    for (kind, literal) in schema.effects.iter() {
+        let args: Option<Vec<ConstId>> =
+            literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
+        let Some(args) = args else { continue };
+        let fact = facts.intern(literal.pred, &args);
+        match kind {
+            EffectKind::Add => {
+                if !current.contains(&fact) {
+                    current.push(fact);
+                }
+            }
+            EffectKind::Del => current.retain(|f| *f != fact),
+        }
+    }
+    let mut running: Vec<ConstId> = state.running.to_vec();
+    match schema.snap {
+        Snap::Start => {
+            if let Some(instance) = running_instance(schema, consts, &action.bindings) {
+                running.push(instance);
+            }
+        }
+        Snap::End => {
+            if let Some(ended) = action.ends
+                && let Some(position) = running.iter().position(|r| *r == ended)
+            {
+                running.remove(position);
+            }
+        }
+        Snap::Instant => {}
+    }
+    State::new(facts, current, running)
+}
+
+/// True if every goal literal matches a fact of `state` (with the goal's variables shared
+/// between literals) and no durative action is still running.
+pub fn goal_reached(task: &Task, state: &State) -> bool {
+    if !state.running.is_empty() {
+        return false;
+    }
+    let mut bindings = vec![None; task.goal_vars];
+    let mut trail = Vec::new();
+    goal_from(task, state, 0, &mut bindings, &mut trail)
+}
+
+fn goal_from(
+    task: &Task,
+    state: &State,
+    position: usize,
+    bindings: &mut [Option<ConstId>],
+    trail: &mut Vec<u32>,
+) -> bool {
+    let Some(literal) = task.goal.get(position) else { return true };
+    for fact in state.facts_of(literal.pred) {
+        let mark = trail.len();
+        if match_literal(literal, fact, &task.consts, &task.facts, bindings, trail)
+            && goal_from(task, state, position + 1, bindings, trail)
+        {
+            undo(bindings, trail, mark);
+            return true;
+        }
+        undo(bindings, trail, mark);
+    }
+    false
+}
+
+/// The ground name of an applicable action, as a HIR term.
+pub fn action_name(task: &Task, action: &Applicable) -> Term {
+    let schema = &task.schemas[action.schema];
+    substitute(&task.pattern_to_term(&schema.name), &task.consts, &action.bindings)
+}
+
+/// The values of an action's variables as HIR terms (`None` for unbound ones).
+pub fn action_bindings(task: &Task, action: &Applicable) -> Vec<Option<Term>> {
+    action.bindings.iter().map(|b| b.map(|c| task.consts.to_term(c))).collect()
+}
