@@ -1,9 +1,14 @@
 //! UI tests: each `tests/ui/<phase>/<case>.pl` is checked on its own, and the diagnostics,
 //! rendered as a terminal without colour shows them, must equal `<case>.stderr` beside it.
 //!
+//! A case whose first line is `% ui: kbc ARGS` is instead run through the `kbc` binary with
+//! those arguments (`$CASE` stands for the case's path), and its stderr is compared; the exit
+//! status must be 1 when that shows an error and 0 otherwise. Timings and memory figures in
+//! search statistics vary from run to run and are replaced by `[TIME]` and `[MEMORY]`.
+//!
 //! Run with `KBC_BLESS=1` to write the current output as the expectation (then review the
-//! diff). Files in subdirectories are only reachable through `include`, not checked directly.
-//! Every mismatch is reported, not just the first.
+//! diff). Files in subdirectories are only reachable through `include` or a `ui:` line, not
+//! checked directly. Every mismatch is reported, not just the first.
 
 use std::path::{Path, PathBuf};
 
@@ -30,14 +35,52 @@ fn cases() -> Vec<PathBuf> {
     cases
 }
 
-/// Runs the front end on one file, as `kbc check` does, and renders its diagnostics.
-pub fn render_case(path: &Path) -> String {
+/// Runs the front end on one file, as `kbc check` does, and renders its diagnostics; or runs
+/// the command of its `% ui:` line.
+pub fn render_case(path: &Path) -> Result<String, String> {
     let text = std::fs::read_to_string(path).expect("case is readable UTF-8");
+    if let Some(command) = text.lines().next().and_then(|line| line.strip_prefix("% ui: kbc ")) {
+        return run_command(path, command);
+    }
     let mut db = SourceDb::new();
     let canonical = std::fs::canonicalize(path).expect("case path exists");
     let root = db.add(path.display().to_string(), Some(canonical), text);
     let frontend = kbc::driver::frontend(&mut db, &[root], &mut FsLoader);
-    render::all_to_string(&db, &frontend.diagnostics)
+    Ok(render::all_to_string(&db, &frontend.diagnostics))
+}
+
+fn run_command(path: &Path, command: &str) -> Result<String, String> {
+    let case = path.display().to_string();
+    let args: Vec<String> = command.split_whitespace().map(|a| a.replace("$CASE", &case)).collect();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_kbc"))
+        .args(&args)
+        .env("NO_COLOR", "1")
+        .output()
+        .map_err(|e| format!("cannot run kbc: {e}"))?;
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let has_error = stderr.lines().any(|line| line.starts_with("error"));
+    let expected_status = if has_error { 1 } else { 0 };
+    if output.status.code() != Some(expected_status) {
+        return Err(format!("`kbc {command}` exited with {}, expected {expected_status}", output.status));
+    }
+    Ok(normalize_figures(&stderr))
+}
+
+/// Replaces `0.123 s` by `[TIME]` and `4.5 MB` by `[MEMORY]`.
+fn normalize_figures(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for (i, word) in text.split(' ').enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        let is_decimal = |w: &str| w.contains('.') && w.chars().all(|c| c.is_ascii_digit() || c == '.');
+        if is_decimal(word) {
+            out.push_str("[FIGURE]");
+        } else {
+            out.push_str(word);
+        }
+    }
+    out.replace("[FIGURE] s", "[TIME]").replace("[FIGURE] MB", "[MEMORY]")
 }
 
 #[test]
@@ -47,7 +90,13 @@ fn ui() {
     assert!(cases.len() >= 40, "expected at least 40 UI cases, found {}", cases.len());
     let mut failures = Vec::new();
     for case in &cases {
-        let actual = render_case(case);
+        let actual = match render_case(case) {
+            Ok(actual) => actual,
+            Err(problem) => {
+                failures.push(format!("--- {}: {problem}", case.display()));
+                continue;
+            }
+        };
         let expected_path = case.with_extension("stderr");
         if bless {
             std::fs::write(&expected_path, &actual).expect("writable expectation");
