@@ -51,6 +51,15 @@ pub(super) struct PlanArgs {
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
+    /// Print the planning task (schemas as patterns, initial state, goal) on stdout first.
+    #[arg(long, value_enum, value_name = "PASS")]
+    dump_after: Option<PlanDump>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PlanDump {
+    /// The planning task the search runs on.
+    Task,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -110,6 +119,13 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
         }
     };
     let mut task = passes::task::build(kb, problem);
+    if cfg!(debug_assertions) {
+        crate::ir::task::verify(&task)
+            .unwrap_or_else(|e| panic!("internal compiler error: the task verifier failed: {e}"));
+    }
+    if let Some(PlanDump::Task) = args.dump_after {
+        let _ = std::io::stdout().lock().write_all(crate::ir::task::print(interner, kb, &task).as_bytes());
+    }
     let search = match args.search {
         SearchArg::Paper => SearchKind::Paper,
         SearchArg::Heuristic => SearchKind::Heuristic,
@@ -168,8 +184,12 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
 }
 
 fn stats_line(stats: &Stats) -> String {
+    let makespan = match stats.makespan {
+        Some(makespan) => format!("makespan {makespan} (achiever-based, before scheduling); "),
+        None => String::new(),
+    };
     format!(
-        "expanded {} {}, generated {}, evaluated {}; {:.3} s; peak memory {:.1} MB",
+        "{makespan}expanded {} {}, generated {}, evaluated {}; {:.3} s; peak memory {:.1} MB",
         stats.expanded,
         if stats.expanded == 1 { "state" } else { "states" },
         stats.generated,
@@ -246,6 +266,7 @@ fn plan_json(
             "evaluated": stats.evaluated,
             "seconds": stats.elapsed.as_secs_f64(),
             "peak_bytes": stats.peak_bytes,
+            "makespan": stats.makespan,
         },
     });
     format!("{value}\n")

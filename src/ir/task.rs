@@ -290,6 +290,11 @@ pub struct Schema {
     pub on_kb: Box<[Goal]>,
     /// Effects, in order.
     pub effects: Box<[(EffectKind, LiteralPattern)]>,
+    /// The variables that name a unit of a renewable resource (`resources/1`): those a Valid
+    /// literal matching a resource template binds where the template has a variable, such as
+    /// `A` in `available(A)` under `resources(available(_))`. Units of a resource are
+    /// interchangeable, which the heuristic search uses to spread work across them.
+    pub resource_vars: Box<[u32]>,
 }
 
 /// A state: facts (sorted by predicate, then fact id) and running durative actions.
@@ -371,6 +376,10 @@ pub struct Task {
     pub goal: Vec<LiteralPattern>,
     /// The number of goal variables.
     pub goal_vars: usize,
+    /// For each goal literal, whether it is a unit of a renewable resource (it matches a
+    /// `resources/1` template), such as `available(a1)`: a unit is taken and given back by
+    /// the actions that use it.
+    pub resource_goal: Vec<bool>,
     /// The goal as HIR terms (for InvalidAtEnd checks and messages), with its variables.
     pub goal_terms: Vec<Term>,
     /// The depth limit the problem asks for (`go/5`).
@@ -412,7 +421,24 @@ pub fn print(interner: &Interner, kb: &hir::Kb, task: &Task) -> String {
     );
     for schema in &task.schemas {
         let vars = &kb.actions[schema.action].vars;
+        let show = |l: &LiteralPattern| hir::term_to_string(interner, &task.literal_to_term(l), vars);
+        let list = |ls: &[LiteralPattern]| ls.iter().map(show).collect::<Vec<_>>().join(", ");
         let _ = writeln!(out, "schema {}", hir::term_to_string(interner, &task.pattern_to_term(&schema.name), vars));
+        let _ = writeln!(out, "  valid [{}] invalid [{}]", list(&schema.valid), list(&schema.invalid));
+        let effects: Vec<String> = schema
+            .effects
+            .iter()
+            .map(|(kind, l)| format!("{}({})", if *kind == EffectKind::Add { "add" } else { "del" }, show(l)))
+            .collect();
+        let _ = writeln!(out, "  effects [{}]", effects.join(", "));
+        if !schema.resource_vars.is_empty() {
+            let units: Vec<String> = schema
+                .resource_vars
+                .iter()
+                .map(|&v| hir::term_to_string(interner, &Term::Var(hir::VarId(v)), vars))
+                .collect();
+            let _ = writeln!(out, "  resource units {}", units.join(", "));
+        }
     }
     out.push_str("init:");
     let no_vars = hir::VarTable::default();

@@ -21,6 +21,22 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         let valid = action.valid.iter().map(&mut literal).collect();
         let invalid = action.invalid.iter().map(&mut literal).collect();
         let effects = action.effects.iter().map(|e| (e.kind, literal(&e.literal))).collect();
+        let mut resource_vars = Vec::new();
+        for valid in &action.valid {
+            for resource in &kb.resources {
+                let template = &resource.template;
+                if template.name() != valid.name() || template.arity() != valid.arity() {
+                    continue;
+                }
+                for (slot, value) in template.term.args().iter().zip(valid.term.args()) {
+                    if let (Term::Var(_), Term::Var(v)) = (slot, value)
+                        && !resource_vars.contains(&v.0)
+                    {
+                        resource_vars.push(v.0);
+                    }
+                }
+            }
+        }
         schemas.push(Schema {
             action: index,
             name: compile(&mut consts, &action.name.term),
@@ -32,6 +48,7 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
             invalid_at_end: action.invalid_at_end.iter().map(|l| l.term.clone()).collect(),
             on_kb: action.on_kb.clone().into_boxed_slice(),
             effects,
+            resource_vars: resource_vars.into_boxed_slice(),
         });
     }
     let problem_hir = &kb.problems[problem];
@@ -55,6 +72,17 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         init,
         goal,
         goal_vars: problem_hir.vars.len(),
+        resource_goal: problem_hir
+            .goal
+            .iter()
+            .map(|g| {
+                kb.resources.iter().any(|r| {
+                    r.template.name() == g.name()
+                        && r.template.arity() == g.arity()
+                        && crate::ir::unify::unifiable(&r.template.term, &g.term)
+                })
+            })
+            .collect(),
         goal_terms: problem_hir.goal.iter().map(|l| l.term.clone()).collect(),
         max_depth: problem_hir.max_depth,
     }

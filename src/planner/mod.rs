@@ -12,9 +12,12 @@
 
 pub mod analysis;
 pub mod best_first;
+mod ground;
+mod landmarks;
 pub mod paper;
 pub mod relaxed;
 pub mod successors;
+pub mod timing;
 
 use std::time::{Duration, Instant};
 
@@ -85,6 +88,8 @@ pub struct Stats {
     pub elapsed: Duration,
     /// The most bytes of states stored at once.
     pub peak_bytes: usize,
+    /// The plan's makespan under achiever-based earliest times ([`timing`]), in time units.
+    pub makespan: Option<u32>,
 }
 
 /// Which budget ran out.
@@ -192,6 +197,11 @@ pub fn search(
         }
         SearchKind::Heuristic => best_first::search(task, successors, &options.budget, progress),
     };
+    if let Ok(plan) = &outcome.result {
+        let path = path_of(task, plan);
+        let mut machine = Machine::new(&program, options.budget.engine_steps);
+        outcome.stats.makespan = timing::makespan(task, &mut machine, &path).ok();
+    }
     outcome.stats.elapsed = started.elapsed();
     outcome
 }
@@ -217,17 +227,16 @@ pub(crate) fn over_budget(budget: &Budget, stats: &Stats, bytes: usize) -> Optio
     if stats.expanded >= budget.max_states {
         return Some(BudgetKind::States);
     }
-    if stats.expanded % 64 == 0 && budget.deadline.is_some_and(|d| Instant::now() >= d) {
+    if budget.deadline.is_some_and(|d| Instant::now() >= d) {
         return Some(BudgetKind::Time);
     }
     None
 }
 
-/// The states a plan passes through, after each of its steps, replayed with the search's own
-/// semantics (for `--trace`). Stops early at a step that names no applicable action.
-pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
-    let mut states = Vec::new();
-    let mut state = task.init.clone();
+/// The applicable actions a plan's steps stand for, with the search's own semantics. Stops
+/// early at a step that names no schema or a value the task does not know.
+pub fn path_of(task: &mut Task, plan: &Plan) -> Vec<Applicable> {
+    let mut path = Vec::new();
     for step in &plan.steps {
         let Some(schema) = task.schemas.iter().position(|s| s.action == step.action) else { break };
         let bindings: Option<Box<[Option<crate::ir::task::ConstId>]>> = step
@@ -241,11 +250,23 @@ pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
         let Some(bindings) = bindings else { break };
         let ends = match task.schemas[schema].snap {
             crate::ir::hir::Snap::End => {
-                successors::running_instance(&task.schemas[schema].clone(), &mut task.consts, &bindings)
+                let Task { schemas, consts, .. } = task;
+                successors::running_instance(&schemas[schema], consts, &bindings)
             }
             _ => None,
         };
-        state = successors::apply(task, &state, &Applicable { schema, bindings, ends });
+        path.push(Applicable { schema, bindings, ends });
+    }
+    path
+}
+
+/// The states a plan passes through, after each of its steps, replayed with the search's own
+/// semantics (for `--trace`). Stops early at a step that names no applicable action.
+pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
+    let mut states = Vec::new();
+    let mut state = task.init.clone();
+    for action in path_of(task, plan) {
+        state = successors::apply(task, &state, &action);
         states.push(state.clone());
     }
     states

@@ -25,6 +25,8 @@ use std::hash::BuildHasher;
 use hashbrown::HashTable;
 use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
 
+use super::ground::{GroundTask, RecordedAction};
+use super::landmarks::{Accepted, Landmarks};
 use super::successors::{ConditionError, OnKbCache, instantiate, match_pattern, substitute, undo};
 use crate::engine::Machine;
 use crate::ir::hir::{EffectKind, Term};
@@ -62,6 +64,10 @@ struct Rule {
     heads: Box<[LiteralPattern]>,
     /// For each body position as the trigger, the join order of the other literals.
     orders: Box<[Box<[JoinStep]>]>,
+    /// The schema's Invalid literals, for the ground task's negative conditions.
+    invalid: Box<[LiteralPattern]>,
+    /// Its `del` effects on predicates some Invalid literal reads.
+    dels: Box<[LiteralPattern]>,
 }
 
 /// Why a tuple has its cost.
@@ -146,6 +152,10 @@ pub struct Estimate {
     pub h_ff: Option<u32>,
     /// Relaxed-plan actions applicable in the state.
     pub helpful: Vec<Helpful>,
+    /// FF's first-layer subgoals, when the task is ground: the nodes the relaxed plan's
+    /// applicable actions were chosen to achieve, sorted. Any applicable action that achieves
+    /// one is helpful too (see [`Relaxation::achieves_subgoal`]).
+    pub subgoals: Vec<u32>,
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.
@@ -162,6 +172,36 @@ pub struct Relaxation {
     hasher: FxBuildHasher,
     /// The goal literals the last exploration did not reach.
     unreached: Vec<usize>,
+    /// For each of `goal`, its index in `Task::goal` (resource goals are left out).
+    goal_index: Vec<usize>,
+    /// While grounding: every rule instantiation fired so far.
+    recorder: Option<Recorder>,
+    /// The ground relaxed task, once [`Relaxation::ground`] has built it; evaluations then
+    /// use it instead of the lifted rules.
+    ground: Option<GroundTask>,
+    /// The whole-fact views of the predicates Invalid literals read.
+    negated_views: Vec<u32>,
+    /// Per predicate, the argument positions that only ever hold a unit of a resource (or an
+    /// anonymous variable): every view leaves them out (see [`resource_positions`]).
+    dropped: FxHashMap<PredId, Box<[bool]>>,
+    /// The ground task's landmarks, found when it is built.
+    landmarks: Option<Landmarks>,
+}
+
+/// An Invalid literal instance: rule, literal, and the values of the literal's variables.
+type InstanceKey = (u32, u32, Box<[Option<ConstId>]>);
+
+/// The rule instantiations of a full exploration, recorded to build a [`GroundTask`].
+struct Recorder {
+    seen: FxHashSet<(u32, Box<[Option<ConstId>]>)>,
+    actions: Vec<RecordedAction>,
+    /// Distinct Invalid literal instances: (rule, literal, values of the rule's variables
+    /// with only the literal's own kept) to their number.
+    instances: FxHashMap<InstanceKey, u32>,
+    instance_list: Vec<InstanceKey>,
+    /// The most instantiations to record before giving up on grounding.
+    limit: usize,
+    overflowed: bool,
 }
 
 fn var_occurrences(pattern: &Pattern, out: &mut Vec<u32>) {
@@ -201,14 +241,65 @@ impl Relaxation {
             arena: Vec::new(),
             hasher: FxBuildHasher,
             unreached: Vec::new(),
+            goal_index: Vec::new(),
+            recorder: None,
+            ground: None,
+            negated_views: Vec::new(),
+            landmarks: None,
+            dropped: if project { resource_positions(task) } else { FxHashMap::default() },
         };
+        // Predicates some Invalid literal reads: their deletions can matter to the ground task.
+        let mut negated: Vec<PredId> = Vec::new();
+        for schema in &task.schemas {
+            for literal in schema.invalid.iter() {
+                if !negated.contains(&literal.pred) {
+                    negated.push(literal.pred);
+                }
+            }
+        }
         for (index, schema) in task.schemas.iter().enumerate() {
-            // Variables needed beyond the body: in heads, OnKB and InvalidAtEnd conditions.
+            // Variables needed beyond the body: in heads, OnKB and InvalidAtEnd conditions,
+            // deletions of negated predicates, and the non-existential variables of Invalid
+            // literals (those that occur elsewhere in the schema).
             let mut needed = Vec::new();
+            let dels: Vec<LiteralPattern> = schema
+                .effects
+                .iter()
+                .filter(|(kind, l)| *kind == EffectKind::Del && negated.contains(&l.pred))
+                .map(|(_, l)| l.clone())
+                .collect();
+            for del in &dels {
+                for (i, a) in del.args.iter().enumerate() {
+                    if !relaxation.is_dropped(del.pred, i) {
+                        var_occurrences(a, &mut needed);
+                    }
+                }
+            }
+            let mut elsewhere = Vec::new();
+            var_occurrences(&schema.name, &mut elsewhere);
+            for literal in schema.valid.iter().chain(schema.effects.iter().map(|(_, l)| l)) {
+                literal.args.iter().for_each(|a| var_occurrences(a, &mut elsewhere));
+            }
+            for goal in schema.on_kb.iter() {
+                goal.for_each_call(&mut |l| term_vars(&l.term, &mut elsewhere));
+            }
+            for literal in schema.invalid.iter() {
+                let mut own = Vec::new();
+                for (i, a) in literal.args.iter().enumerate() {
+                    if !relaxation.is_dropped(literal.pred, i) {
+                        var_occurrences(a, &mut own);
+                    }
+                }
+                needed.extend(own.into_iter().filter(|v| elsewhere.contains(v)));
+            }
             let heads: Vec<LiteralPattern> =
                 schema.effects.iter().filter(|(kind, _)| *kind == EffectKind::Add).map(|(_, l)| l.clone()).collect();
             for head in &heads {
-                head.args.iter().for_each(|a| var_occurrences(a, &mut needed));
+                for (i, a) in head.args.iter().enumerate() {
+                    if !relaxation.is_dropped(head.pred, i) {
+                        var_occurrences(a, &mut needed);
+                    }
+                }
             }
             for goal in schema.on_kb.iter() {
                 goal.for_each_call(&mut |l| term_vars(&l.term, &mut needed));
@@ -225,6 +316,7 @@ impl Relaxation {
                 .iter()
                 .map(|literal| {
                     let keep: Vec<u32> = (0..literal.args.len() as u32)
+                        .filter(|&i| !relaxation.is_dropped(literal.pred, i as usize))
                         .filter(|&i| match &literal.args[i as usize] {
                             Pattern::Var(v) => {
                                 !project || needed.contains(v) || in_body.iter().filter(|&&w| w == *v).count() > 1
@@ -243,13 +335,26 @@ impl Relaxation {
                 body: body.into_boxed_slice(),
                 heads: heads.into_boxed_slice(),
                 orders,
+                invalid: schema.invalid.clone(),
+                dels: dels.into_boxed_slice(),
             });
         }
-        for literal in &task.goal {
-            let arity = task.facts.pred_info(literal.pred).1;
-            let keep: Vec<u32> = (0..arity as u32).collect();
+        // A view of whole facts for each negated predicate: the facts a negative condition
+        // may have to wait for the deletion of.
+        for pred in negated {
+            let keep = relaxation.kept(task, pred);
+            let view = relaxation.view(pred, &keep);
+            relaxation.negated_views.push(view);
+        }
+        for (g, literal) in task.goal.iter().enumerate() {
+            if project && task.resource_goal[g] {
+                continue;
+            }
+            let keep = relaxation.kept(task, literal.pred);
             let view = relaxation.view(literal.pred, &keep);
-            relaxation.goal.push(BodyLiteral { view, args: literal.args.clone() });
+            let args = keep.iter().map(|&i| literal.args[i as usize].clone()).collect();
+            relaxation.goal.push(BodyLiteral { view, args });
+            relaxation.goal_index.push(g);
         }
         relaxation.triggers = vec![Vec::new(); relaxation.views.len()];
         for (r, rule) in relaxation.rules.iter().enumerate() {
@@ -278,6 +383,42 @@ impl Relaxation {
     /// The goal literals (indices into `Task::goal`) the last exploration did not reach.
     pub fn unreached_goals(&self) -> &[usize] {
         &self.unreached
+    }
+
+    fn is_dropped(&self, pred: PredId, position: usize) -> bool {
+        self.dropped.get(&pred).is_some_and(|d| d.get(position).copied().unwrap_or(false))
+    }
+
+    /// The positions of `pred` every view keeps.
+    fn kept(&self, task: &Task, pred: PredId) -> Vec<u32> {
+        let arity = task.facts.pred_info(pred).1;
+        (0..arity as u32).filter(|&i| !self.is_dropped(pred, i as usize)).collect()
+    }
+
+    /// The values of a literal's arguments under `bindings`, with [`DROPPED`] at the dropped
+    /// positions left unbound; `false` if another position is unbound.
+    fn literal_values(
+        &self,
+        literal: &LiteralPattern,
+        task: &mut Task,
+        bindings: &[Option<ConstId>],
+        out: &mut Vec<ConstId>,
+    ) -> bool {
+        out.clear();
+        for (i, a) in literal.args.iter().enumerate() {
+            match instantiate(a, &mut task.consts, bindings) {
+                Some(value) => out.push(value),
+                None if self.is_dropped(literal.pred, i) => out.push(DROPPED),
+                None => return false,
+            }
+        }
+        true
+    }
+
+    /// The whole-fact (negated) view of `pred`.
+    fn negated_view(&self, pred: PredId) -> Option<u32> {
+        let views = self.views_of_pred.get(&pred)?;
+        self.negated_views.iter().copied().find(|v| views.contains(v))
     }
 
     fn view(&mut self, pred: PredId, keep: &[u32]) -> u32 {
@@ -323,7 +464,208 @@ impl Relaxation {
         cache: &mut OnKbCache,
         plan: bool,
     ) -> Result<Estimate, ConditionError> {
+        if self.ground.is_some() {
+            return Ok(self.evaluate_ground(task, state, plan));
+        }
         self.explore(task, state, machine, cache, plan, true)
+    }
+
+    /// Grounds the relaxed task: explores everything reachable from the initial state ignoring
+    /// deletions, recording every rule instantiation, and from then on evaluates states on
+    /// the ground actions, which is many times faster than joining lifted rules again for each
+    /// state. Everything reachable from a reachable state is reachable from the initial state,
+    /// so the ground task serves every state the search meets. Gives up (returns `false`, and
+    /// evaluation stays lifted) beyond `limit` instantiations.
+    ///
+    /// With `negative`, the ground task also keeps the Invalid conditions the lifted
+    /// relaxation drops: an action waits until every fact its Invalid literal forbids is either
+    /// absent from the state or deleted by some action of the relaxed plan. Relaxed
+    /// reachability still follows from real reachability, so dead ends stay sound, and the
+    /// estimate sees, for instance, that a cell must be emptied before a block can stand there.
+    pub fn ground(
+        &mut self,
+        task: &mut Task,
+        machine: &mut Machine<'_>,
+        cache: &mut OnKbCache,
+        limit: usize,
+        negative: bool,
+    ) -> Result<bool, ConditionError> {
+        self.recorder = Some(Recorder {
+            seen: FxHashSet::default(),
+            actions: Vec::new(),
+            instances: FxHashMap::default(),
+            instance_list: Vec::new(),
+            limit,
+            overflowed: false,
+        });
+        let init = task.init.clone();
+        let explored = self.explore(task, &init, machine, cache, false, false);
+        let recorder = self.recorder.take().expect("set above");
+        explored?;
+        if recorder.overflowed {
+            return Ok(false);
+        }
+        let sizes: Vec<usize> = self.tables.iter().map(|t| t.cost.len()).collect();
+        let goals: Vec<Vec<(u32, u32)>> = self
+            .goal
+            .iter()
+            .map(|goal| {
+                let table = &self.tables[goal.view as usize];
+                let mut scratch = vec![None; task.goal_vars];
+                let mut trail = Vec::new();
+                (0..table.cost.len() as u32)
+                    .filter(|&t| {
+                        let ok = goal
+                            .args
+                            .iter()
+                            .zip(table.tuple(t))
+                            .all(|(p, v)| match_pattern(p, *v, &task.consts, &mut scratch, &mut trail));
+                        undo(&mut scratch, &mut trail, 0);
+                        ok
+                    })
+                    .map(|t| (goal.view, t))
+                    .collect()
+            })
+            .collect();
+        let schemas: Vec<u32> = self.rules.iter().map(|r| r.schema).collect();
+        // The facts each Invalid literal instance forbids: the reachable whole facts of its
+        // predicate that match it.
+        let mut scratch = Vec::new();
+        let mut trail = Vec::new();
+        let candidates: Vec<Vec<(u32, u32)>> = recorder
+            .instance_list
+            .iter()
+            .map(|(rule, literal, bindings)| {
+                let literal = &self.rules[*rule as usize].invalid[*literal as usize];
+                let Some(view) = self.negated_view(literal.pred) else { return Vec::new() };
+                let table = &self.tables[view as usize];
+                let keep = &self.views[view as usize].keep;
+                (0..table.cost.len() as u32)
+                    .filter(|&t| {
+                        scratch.clear();
+                        scratch.extend_from_slice(bindings);
+                        let ok = keep
+                            .iter()
+                            .map(|&i| &literal.args[i as usize])
+                            .zip(table.tuple(t))
+                            .all(|(p, v)| match_pattern(p, *v, &task.consts, &mut scratch, &mut trail));
+                        trail.clear();
+                        ok
+                    })
+                    .map(|t| (view, t))
+                    .collect()
+            })
+            .collect();
+        let negative = if negative { Some((self.negated_views.as_slice(), candidates.as_slice())) } else { None };
+        let mut ground = GroundTask::new(&sizes, recorder.actions, &schemas, &goals, negative);
+        let start = self.state_tuples(task, &init);
+        self.landmarks = Some(Landmarks::compute(&mut ground, &start));
+        self.ground = Some(ground);
+        Ok(true)
+    }
+
+    /// The number of ground actions, when grounded.
+    pub fn ground_actions(&self) -> Option<usize> {
+        self.ground.as_ref().map(GroundTask::action_count)
+    }
+
+    /// True if `action` achieves one of `subgoals` (an [`Estimate::subgoals`] of the ground
+    /// task): it adds a fact that projects onto one, or deletes a fact whose absence is one.
+    pub fn achieves_subgoal(&self, task: &mut Task, action: &super::successors::Applicable, subgoals: &[u32]) -> bool {
+        let Some(ground) = &self.ground else { return false };
+        if subgoals.is_empty() {
+            return false;
+        }
+        let schema = &task.schemas[action.schema];
+        let effects: Vec<(EffectKind, LiteralPattern)> = schema.effects.to_vec();
+        let mut full = Vec::new();
+        let mut projected = Vec::new();
+        for (kind, literal) in &effects {
+            if !self.literal_values(literal, task, &action.bindings, &mut full) {
+                continue;
+            }
+            let negated = self.negated_view(literal.pred);
+            let views: &[u32] = match kind {
+                EffectKind::Add => self.views_of_pred.get(&literal.pred).map_or(&[], Vec::as_slice),
+                EffectKind::Del => negated.as_slice(),
+            };
+            for &view in views {
+                projected.clear();
+                projected.extend(self.views[view as usize].keep.iter().map(|&i| full[i as usize]));
+                let Some(t) = self.tables[view as usize].find(&self.hasher, &projected) else { continue };
+                let node = match kind {
+                    EffectKind::Add => ground.offsets[view as usize] + t,
+                    EffectKind::Del => match ground.negation_base[view as usize] {
+                        u32::MAX => continue,
+                        base => base + t,
+                    },
+                };
+                if subgoals.binary_search(&node).is_ok() {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// The number of landmarks, when grounded.
+    pub fn landmark_count(&self) -> Option<usize> {
+        self.landmarks.as_ref().map(Landmarks::len)
+    }
+
+    /// The view tuples of `state`'s facts.
+    fn state_tuples(&self, task: &Task, state: &State) -> Vec<(u32, u32)> {
+        let mut start = Vec::with_capacity(state.len() * 2);
+        let mut projected = Vec::new();
+        for fact in state.facts() {
+            let pred = task.facts.pred_of(fact);
+            let Some(views) = self.views_of_pred.get(&pred) else { continue };
+            let values = task.facts.args(fact);
+            for &view in views {
+                projected.clear();
+                projected.extend(self.views[view as usize].keep.iter().map(|&i| values[i as usize]));
+                if let Some(t) = self.tables[view as usize].find(&self.hasher, &projected) {
+                    start.push((view, t));
+                }
+            }
+        }
+        start
+    }
+
+    fn evaluate_ground(&mut self, task: &Task, state: &State, plan: bool) -> Estimate {
+        let start = self.state_tuples(task, state);
+        let ground = self.ground.as_mut().expect("called only when grounded");
+        let estimate = ground.evaluate(&start, plan);
+        self.unreached = ground.unreached().iter().map(|&g| self.goal_index[g]).collect();
+        estimate
+    }
+
+    /// Evaluates `state` for the search: the estimate with its relaxed plan and, when the
+    /// task is grounded, the landmarks accepted on the path to it (from its parent's set,
+    /// `None` at the root) and the landmark count.
+    pub fn evaluate_for_search(
+        &mut self,
+        task: &mut Task,
+        state: &State,
+        machine: &mut Machine<'_>,
+        cache: &mut OnKbCache,
+        parent: Option<&[u64]>,
+    ) -> Result<(Estimate, Option<(Accepted, u32)>), ConditionError> {
+        if self.ground.is_none() || self.landmarks.is_none() {
+            return Ok((self.explore(task, state, machine, cache, true, true)?, None));
+        }
+        let start = self.state_tuples(task, state);
+        let ground = self.ground.as_mut().expect("checked above");
+        let estimate = ground.evaluate(&start, true);
+        self.unreached = ground.unreached().iter().map(|&g| self.goal_index[g]).collect();
+        for &(view, t) in &start {
+            ground.present[(ground.offsets[view as usize] + t) as usize] = true;
+        }
+        let progress = self.landmarks.as_ref().expect("checked above").progress(parent, &ground.present);
+        for &(view, t) in &start {
+            ground.present[(ground.offsets[view as usize] + t) as usize] = false;
+        }
+        Ok((estimate, Some(progress)))
     }
 
     /// Explores everything reachable from `state` ignoring deletions, not stopping at the
@@ -432,11 +774,12 @@ impl Relaxation {
                 self.join_from(task, machine, cache, rule as usize, position as usize, t)?;
             }
         }
-        self.unreached = reached.iter().enumerate().filter(|(_, r)| r.is_none()).map(|(g, _)| g).collect();
+        self.unreached =
+            reached.iter().enumerate().filter(|(_, r)| r.is_none()).map(|(g, _)| self.goal_index[g]).collect();
         if remaining > 0 {
             return Ok(Estimate::default());
         }
-        let mut estimate = Estimate { h_add: Some(h_add), h_ff: None, helpful: Vec::new() };
+        let mut estimate = Estimate { h_add: Some(h_add), h_ff: None, helpful: Vec::new(), subgoals: Vec::new() };
         if plan {
             self.relaxed_plan(task, &reached, &mut estimate);
         }
@@ -547,16 +890,17 @@ impl Relaxation {
                     return;
                 }
             }
+            if relaxation.recorder.is_some() {
+                relaxation.record(task, rule, bindings);
+            }
             let at = relaxation.arena.len() as u32;
             relaxation.arena.extend_from_slice(bindings);
             let support = Support::Rule { rule: rule as u32, bindings: at };
+            let mut values = Vec::new();
             for h in 0..relaxation.rules[rule].heads.len() {
-                let head = &relaxation.rules[rule].heads[h];
-                let pred = head.pred;
-                let values: Option<Vec<ConstId>> =
-                    head.args.iter().map(|a| instantiate(a, &mut task.consts, bindings)).collect();
-                if let Some(values) = values {
-                    relaxation.offer(pred, &values, cost, support);
+                let head = relaxation.rules[rule].heads[h].clone();
+                if relaxation.literal_values(&head, task, bindings, &mut values) {
+                    relaxation.offer(head.pred, &values, cost, support);
                 }
             }
         };
@@ -575,12 +919,97 @@ impl Relaxation {
         Ok(())
     }
 
+    /// Records one rule instantiation that passed its filters, for grounding.
+    fn record(&mut self, task: &mut Task, rule: usize, bindings: &[Option<ConstId>]) {
+        let Some(recorder) = self.recorder.as_mut() else { return };
+        if recorder.overflowed || !recorder.seen.insert((rule as u32, bindings.into())) {
+            return;
+        }
+        if recorder.actions.len() >= recorder.limit {
+            recorder.overflowed = true;
+            return;
+        }
+        let mut pre = Vec::new();
+        for literal in self.rules[rule].body.iter() {
+            let tuple: Option<Vec<ConstId>> =
+                literal.args.iter().map(|a| instantiate(a, &mut task.consts, bindings)).collect();
+            if let Some(t) = tuple.and_then(|tuple| self.tables[literal.view as usize].find(&self.hasher, &tuple)) {
+                pre.push((literal.view, t));
+            }
+        }
+        let mut add = Vec::new();
+        let mut projected = Vec::new();
+        let mut full = Vec::new();
+        for h in 0..self.rules[rule].heads.len() {
+            let head = self.rules[rule].heads[h].clone();
+            if !self.literal_values(&head, task, bindings, &mut full) {
+                continue;
+            }
+            let Some(views) = self.views_of_pred.get(&head.pred) else { continue };
+            for &view in views {
+                projected.clear();
+                projected.extend(self.views[view as usize].keep.iter().map(|&i| full[i as usize]));
+                let (t, _) = self.tables[view as usize].find_or_insert(&self.hasher, &projected);
+                add.push((view, t));
+            }
+        }
+        let mut deletes = Vec::new();
+        for d in 0..self.rules[rule].dels.len() {
+            let del = self.rules[rule].dels[d].clone();
+            let Some(view) = self.negated_view(del.pred) else { continue };
+            if !self.literal_values(&del, task, bindings, &mut full) {
+                continue;
+            }
+            projected.clear();
+            projected.extend(self.views[view as usize].keep.iter().map(|&i| full[i as usize]));
+            if let Some(t) = self.tables[view as usize].find(&self.hasher, &projected) {
+                deletes.push((view, t));
+            }
+        }
+        let recorder = self.recorder.as_mut().expect("checked above");
+        let mut invalid = Vec::new();
+        for (l, literal) in self.rules[rule].invalid.iter().enumerate() {
+            let mut own = Vec::new();
+            literal.args.iter().for_each(|a| var_occurrences(a, &mut own));
+            let values: Box<[Option<ConstId>]> =
+                (0..bindings.len()).map(|v| if own.contains(&(v as u32)) { bindings[v] } else { None }).collect();
+            let key = (rule as u32, l as u32, values);
+            let next = recorder.instance_list.len() as u32;
+            let id = *recorder.instances.entry(key.clone()).or_insert_with(|| {
+                recorder.instance_list.push(key);
+                next
+            });
+            invalid.push(id);
+        }
+        recorder.actions.push(RecordedAction {
+            rule: rule as u32,
+            bindings: bindings.into(),
+            pre,
+            add,
+            invalid,
+            deletes,
+        });
+    }
+
     /// FF's relaxed plan from the goal tuples back through best supporters.
+    ///
+    /// Tuples are processed from the most to the least costly, and the heads of every action
+    /// chosen count as achieved from then on, so a cheaper tuple that a chosen action already
+    /// adds gets no second supporter. This is FF's marking of facts added by the relaxed plan's
+    /// actions; without it, a block that is both stacked where the goal wants it and needed
+    /// clear afterwards would be counted as moved twice, once by each cheapest route.
     fn relaxed_plan(&mut self, task: &mut Task, reached: &[Option<(u32, u32)>], estimate: &mut Estimate) {
-        let mut pending: Vec<(u32, u32)> = reached.iter().flatten().copied().collect();
+        let mut pending: BinaryHeap<(u32, u32, u32)> = BinaryHeap::new();
+        let push = |pending: &mut BinaryHeap<(u32, u32, u32)>, tables: &[Table], view: u32, t: u32| {
+            pending.push((tables[view as usize].cost[t as usize], view, t));
+        };
+        for &(view, t) in reached.iter().flatten() {
+            push(&mut pending, &self.tables, view, t);
+        }
         let mut seen: FxHashSet<(u32, u32)> = FxHashSet::default();
         let mut actions: FxHashSet<(u32, Vec<Option<ConstId>>)> = FxHashSet::default();
-        while let Some((view, t)) = pending.pop() {
+        let mut projected = Vec::new();
+        while let Some((_, view, t)) = pending.pop() {
             if !seen.insert((view, t)) {
                 continue;
             }
@@ -590,6 +1019,22 @@ impl Relaxation {
             if !actions.insert((rule, values.clone())) {
                 continue;
             }
+            // Everything this action adds is achieved from now on.
+            let mut full = Vec::new();
+            for h in 0..self.rules[rule as usize].heads.len() {
+                let head = self.rules[rule as usize].heads[h].clone();
+                if !self.literal_values(&head, task, &values, &mut full) {
+                    continue;
+                }
+                let Some(views) = self.views_of_pred.get(&head.pred) else { continue };
+                for &other in views {
+                    projected.clear();
+                    projected.extend(self.views[other as usize].keep.iter().map(|&i| full[i as usize]));
+                    if let Some(u) = self.tables[other as usize].find(&self.hasher, &projected) {
+                        seen.insert((other, u));
+                    }
+                }
+            }
             let mut first_layer = true;
             for literal in self.rules[rule as usize].body.iter() {
                 let tuple: Option<Vec<ConstId>> =
@@ -598,7 +1043,7 @@ impl Relaxation {
                 let table = &self.tables[literal.view as usize];
                 if let Some(u) = table.find(&self.hasher, &tuple) {
                     first_layer &= table.cost[u as usize] == 0;
-                    pending.push((literal.view, u));
+                    push(&mut pending, &self.tables, literal.view, u);
                 }
             }
             if first_layer {
@@ -610,6 +1055,106 @@ impl Relaxation {
         }
         estimate.h_ff = Some(actions.len() as u32);
     }
+}
+
+/// A placeholder value at a dropped position; no view reads it.
+const DROPPED: ConstId = ConstId(u32::MAX);
+
+/// The argument positions that name a unit of a renewable resource and nothing else: position
+/// `i` of a predicate qualifies when, in every literal of every schema (Valid, Invalid,
+/// effects) and every goal literal the relaxation reads, it holds a resource variable of the
+/// schema (`A` in `available(A)` under `resources(available(_))`) or a variable that occurs
+/// nowhere else, and a resource variable at least once.
+///
+/// Units of a resource are interchangeable, so the relaxation can forget which unit a fact is
+/// about: `gripped(A, B)` becomes "some arm grips B". Every real transition maps onto a
+/// transition of this abstraction, so whatever is reachable stays reachable (dead ends stay
+/// sound), and the relaxed task shrinks by the number of units: four times fewer ground
+/// actions with four arms.
+fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
+    // Resource units flow: a schema variable bound by a resource template, or read from a
+    // position that holds units, holds a unit, and so does every position it is added at.
+    let mut unit_positions: FxHashSet<(PredId, usize)> = FxHashSet::default();
+    let mut unit_vars: Vec<Vec<u32>> = task.schemas.iter().map(|s| s.resource_vars.to_vec()).collect();
+    loop {
+        let mut changed = false;
+        for (schema, vars) in task.schemas.iter().zip(unit_vars.iter_mut()) {
+            for literal in schema.valid.iter() {
+                for (i, a) in literal.args.iter().enumerate() {
+                    if let Pattern::Var(v) = a
+                        && unit_positions.contains(&(literal.pred, i))
+                        && !vars.contains(v)
+                    {
+                        vars.push(*v);
+                        changed = true;
+                    }
+                }
+            }
+            for (kind, literal) in schema.effects.iter() {
+                for (i, a) in literal.args.iter().enumerate() {
+                    if *kind == EffectKind::Add
+                        && matches!(a, Pattern::Var(v) if vars.contains(v))
+                        && unit_positions.insert((literal.pred, i))
+                    {
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    // Per predicate and position: (every occurrence qualifies, some occurrence is a unit).
+    let mut status: FxHashMap<PredId, Vec<(bool, bool)>> = FxHashMap::default();
+    let mut note = |pred: PredId, i: usize, arity: usize, qualifies: bool, unit: bool| {
+        let entry = status.entry(pred).or_insert_with(|| vec![(true, false); arity]);
+        entry[i].0 &= qualifies;
+        entry[i].1 |= unit;
+    };
+    for (schema, vars) in task.schemas.iter().zip(&unit_vars) {
+        let mut occurrences = Vec::new();
+        var_occurrences(&schema.name, &mut occurrences);
+        let literals = || schema.valid.iter().chain(schema.invalid.iter()).chain(schema.effects.iter().map(|(_, l)| l));
+        for literal in literals() {
+            literal.args.iter().for_each(|a| var_occurrences(a, &mut occurrences));
+        }
+        // A unit the KB reasons about (in OnKB or InvalidAtEnd) must stay visible.
+        let mut reasoned = Vec::new();
+        for goal in schema.on_kb.iter() {
+            goal.for_each_call(&mut |l| term_vars(&l.term, &mut reasoned));
+        }
+        for term in schema.invalid_at_end.iter() {
+            term_vars(term, &mut reasoned);
+        }
+        occurrences.extend_from_slice(&reasoned);
+        for literal in literals() {
+            for (i, a) in literal.args.iter().enumerate() {
+                let (qualifies, unit) = match a {
+                    Pattern::Var(v) if vars.contains(v) => (!reasoned.contains(v), true),
+                    Pattern::Var(v) => (occurrences.iter().filter(|&&w| w == *v).count() == 1, false),
+                    _ => (false, false),
+                };
+                note(literal.pred, i, literal.args.len(), qualifies, unit);
+            }
+        }
+    }
+    let mut goal_occurrences = Vec::new();
+    task.goal.iter().for_each(|l| l.args.iter().for_each(|a| var_occurrences(a, &mut goal_occurrences)));
+    for (g, literal) in task.goal.iter().enumerate() {
+        if task.resource_goal[g] {
+            continue;
+        }
+        for (i, a) in literal.args.iter().enumerate() {
+            let qualifies = matches!(a, Pattern::Var(v) if goal_occurrences.iter().filter(|&&w| w == *v).count() == 1);
+            note(literal.pred, i, literal.args.len(), qualifies, false);
+        }
+    }
+    status
+        .into_iter()
+        .filter(|(_, positions)| positions.iter().any(|&(q, u)| q && u))
+        .map(|(pred, positions)| (pred, positions.iter().map(|&(q, u)| q && u).collect()))
+        .collect()
 }
 
 /// The join order for a rule triggered by body literal `trigger`: the other literals, most

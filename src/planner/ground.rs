@@ -1,0 +1,365 @@
+//! The ground relaxed task: h_add, h_FF and helpful actions by counting, over the rule
+//! instantiations a full relaxed exploration from the initial state recorded.
+//!
+//! Facts here are the lifted relaxation's *view tuples* (a predicate restricted to the
+//! argument positions some rule reads), numbered densely; a ground action is one rule
+//! instantiation, with the tuples its body read as preconditions and the tuples its heads
+//! produce as effects. Evaluating a state is then the textbook algorithm: every precondition
+//! counter starts full, facts of the state cost 0, and a Dijkstra over facts settles each at
+//! its h_add cost, firing an action when its last precondition settles, until every goal
+//! literal has a settled tuple. The relaxed plan is extracted the same way as on the lifted
+//! side (`relaxed::Relaxation::relaxed_plan`): most costly tuples first, with every tuple an
+//! already chosen action adds counting as achieved.
+//!
+//! The two evaluators compute the same h_add on every state; a test checks that they do.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use super::relaxed::{Estimate, Helpful};
+use crate::ir::task::ConstId;
+
+/// One rule instantiation recorded during grounding: tuples as (view, index in view).
+pub(super) struct RecordedAction {
+    pub rule: u32,
+    pub bindings: Box<[Option<ConstId>]>,
+    pub pre: Vec<(u32, u32)>,
+    pub add: Vec<(u32, u32)>,
+    /// The Invalid literal instances it must respect, by number.
+    pub invalid: Vec<u32>,
+    /// The whole facts of negated predicates it deletes (tuples of their whole-fact views).
+    pub deletes: Vec<(u32, u32)>,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// What the ground task needs for Invalid conditions: the whole-fact views of negated
+/// predicates, and per Invalid literal instance the tuples it forbids.
+pub(super) type Negative<'a> = (&'a [u32], &'a [Vec<(u32, u32)>]);
+
+/// The ground relaxed task and its scratch space.
+pub(super) struct GroundTask {
+    /// The first fact number of each view.
+    pub(super) offsets: Vec<u32>,
+    /// Per action: the schema, the values of its variables, its cost (1, or 0 for the
+    /// conjunctions that stand for Invalid literals), and its ranges in `pre`/`add`.
+    schema: Vec<u32>,
+    pub(super) weight: Vec<u32>,
+    bindings: Vec<Box<[Option<ConstId>]>>,
+    pub(super) pre_start: Vec<u32>,
+    pub(super) pre: Vec<u32>,
+    pub(super) add_start: Vec<u32>,
+    pub(super) add: Vec<u32>,
+    /// Facts to the actions that have them as a precondition (CSR layout).
+    pub(super) users_start: Vec<u32>,
+    pub(super) users: Vec<u32>,
+    /// Actions without preconditions.
+    pub(super) unconditional: Vec<u32>,
+    /// Negation nodes: (the fact node whose absence or deletion they stand for, their node).
+    pub(super) negations: Vec<(u32, u32)>,
+    /// All nodes: view tuples, then negations, then Invalid literal instances.
+    pub(super) nodes: usize,
+    /// The number of view-tuple nodes.
+    pub(super) tuples: usize,
+    /// Per view, its first negation node (`u32::MAX` for views without negations).
+    pub(super) negation_base: Vec<u32>,
+    /// The first Invalid literal instance node, and per instance the conjunction action that
+    /// achieves it.
+    pub(super) instance_base: u32,
+    pub(super) instance_actions: Vec<u32>,
+    /// Per goal literal (of the relaxation), the facts that satisfy it.
+    pub(super) goal_options: Vec<Vec<u32>>,
+    /// The goal literals by fact, for the check when a fact settles (CSR layout).
+    goals_of_start: Vec<u32>,
+    goals_of: Vec<u32>,
+    // Scratch, per evaluation.
+    pub(super) present: Vec<bool>,
+    pub(super) cost: Vec<u32>,
+    done: Vec<bool>,
+    supporter: Vec<u32>,
+    remaining: Vec<u32>,
+    action_cost: Vec<u32>,
+    queue: BinaryHeap<Reverse<(u32, u32)>>,
+    unreached: Vec<usize>,
+}
+
+fn csr(count: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; count + 1];
+    for (key, _) in pairs.clone() {
+        start[key as usize + 1] += 1;
+    }
+    for i in 0..count {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut items = vec![0u32; start[count] as usize];
+    for (key, value) in pairs {
+        items[fill[key as usize] as usize] = value;
+        fill[key as usize] += 1;
+    }
+    (start, items)
+}
+
+impl GroundTask {
+    /// Builds the task from the view sizes, the recorded instantiations, each rule's schema
+    /// and, per goal literal, the tuples that satisfy it. With `negative` (the whole-fact
+    /// views of negated predicates, and per Invalid literal instance the tuples it forbids),
+    /// actions also wait for their Invalid literals.
+    pub fn new(
+        sizes: &[usize],
+        actions: Vec<RecordedAction>,
+        schemas: &[u32],
+        goals: &[Vec<(u32, u32)>],
+        negative: Option<Negative<'_>>,
+    ) -> Self {
+        let mut offsets = Vec::with_capacity(sizes.len());
+        let mut facts = 0usize;
+        for &size in sizes {
+            offsets.push(facts as u32);
+            facts += size;
+        }
+        let id = |(view, t): (u32, u32)| offsets[view as usize] + t;
+        // Negation nodes follow the view tuples, one per tuple of each negated view.
+        let mut negation_base: Vec<u32> = vec![u32::MAX; sizes.len()];
+        let mut nodes = facts;
+        let mut negations = Vec::new();
+        let mut instance_base = facts as u32;
+        if let Some((views, candidates)) = negative {
+            for &view in views {
+                negation_base[view as usize] = nodes as u32;
+                for t in 0..sizes[view as usize] as u32 {
+                    negations.push((offsets[view as usize] + t, (nodes as u32) + t));
+                }
+                nodes += sizes[view as usize];
+            }
+            instance_base = nodes as u32;
+            nodes += candidates.len();
+        }
+        let negation = |(view, t): (u32, u32)| negation_base[view as usize] + t;
+        let mut task = GroundTask {
+            offsets: Vec::new(),
+
+            schema: Vec::with_capacity(actions.len()),
+            weight: Vec::with_capacity(actions.len()),
+            bindings: Vec::with_capacity(actions.len()),
+            pre_start: vec![0],
+            pre: Vec::new(),
+            add_start: vec![0],
+            add: Vec::new(),
+            users_start: Vec::new(),
+            users: Vec::new(),
+            unconditional: Vec::new(),
+            negations,
+            nodes,
+            tuples: facts,
+            negation_base: negation_base.clone(),
+            instance_base,
+            instance_actions: Vec::new(),
+            goal_options: goals.iter().map(|g| g.iter().map(|&p| id(p)).collect()).collect(),
+            goals_of_start: Vec::new(),
+            goals_of: Vec::new(),
+            present: vec![false; nodes],
+            cost: vec![u32::MAX; nodes],
+            done: vec![false; nodes],
+            supporter: vec![NONE; nodes],
+            remaining: Vec::new(),
+            action_cost: Vec::new(),
+            queue: BinaryHeap::new(),
+            unreached: Vec::new(),
+        };
+        let push = |task: &mut GroundTask, schema: u32, weight: u32, bindings, mut pre: Vec<u32>, mut add: Vec<u32>| {
+            let a = task.schema.len() as u32;
+            task.schema.push(schema);
+            task.weight.push(weight);
+            task.bindings.push(bindings);
+            pre.sort_unstable();
+            pre.dedup();
+            if pre.is_empty() {
+                task.unconditional.push(a);
+            }
+            task.pre.extend_from_slice(&pre);
+            task.pre_start.push(task.pre.len() as u32);
+            add.sort_unstable();
+            add.dedup();
+            task.add.extend_from_slice(&add);
+            task.add_start.push(task.add.len() as u32);
+        };
+        for action in actions {
+            let mut pre: Vec<u32> = action.pre.iter().map(|&p| id(p)).collect();
+            let mut add: Vec<u32> = action.add.iter().map(|&p| id(p)).collect();
+            if negative.is_some() {
+                pre.extend(action.invalid.iter().map(|&i| instance_base + i));
+                add.extend(action.deletes.iter().map(|&p| negation(p)));
+            }
+            push(&mut task, schemas[action.rule as usize], 1, action.bindings, pre, add);
+        }
+        // Each Invalid literal instance holds once every fact it forbids is absent or deleted.
+        if let Some((_, candidates)) = negative {
+            for (i, forbidden) in candidates.iter().enumerate() {
+                task.instance_actions.push(task.schema.len() as u32);
+                let pre = forbidden.iter().map(|&p| negation(p)).collect();
+                push(&mut task, u32::MAX, 0, Box::new([]), pre, vec![instance_base + i as u32]);
+            }
+        }
+        let count = task.schema.len();
+        let pairs: Vec<(u32, u32)> = (0..count)
+            .flat_map(|a| {
+                let range = task.pre_start[a] as usize..task.pre_start[a + 1] as usize;
+                task.pre[range].iter().map(move |&f| (f, a as u32))
+            })
+            .collect();
+        let (users_start, users) = csr(nodes, pairs.into_iter());
+        task.users_start = users_start;
+        task.users = users;
+        let goal_pairs: Vec<(u32, u32)> = task
+            .goal_options
+            .iter()
+            .enumerate()
+            .flat_map(|(g, options)| options.iter().map(move |&f| (f, g as u32)))
+            .collect();
+        let (goals_of_start, goals_of) = csr(nodes, goal_pairs.into_iter());
+        task.goals_of_start = goals_of_start;
+        task.goals_of = goals_of;
+        task.remaining = (0..count).map(|a| task.pre_start[a + 1] - task.pre_start[a]).collect();
+        task.action_cost = vec![0; count];
+        task.offsets = offsets;
+        task
+    }
+
+    /// The number of ground actions (without the conjunctions for Invalid literals).
+    pub fn action_count(&self) -> usize {
+        self.weight.iter().filter(|&&w| w > 0).count()
+    }
+
+    /// The goal literals the last evaluation did not reach.
+    pub fn unreached(&self) -> &[usize] {
+        &self.unreached
+    }
+
+    fn relax(&mut self, fact: u32, cost: u32, supporter: u32) {
+        let f = fact as usize;
+        if !self.done[f] && cost < self.cost[f] {
+            self.cost[f] = cost;
+            self.supporter[f] = supporter;
+            self.queue.push(Reverse((cost, fact)));
+        }
+    }
+
+    /// Evaluates the state whose facts are the view tuples `start`.
+    pub fn evaluate(&mut self, start: &[(u32, u32)], plan: bool) -> Estimate {
+        self.cost.fill(u32::MAX);
+        self.done.fill(false);
+        self.supporter.fill(NONE);
+        self.queue.clear();
+        self.action_cost.fill(0);
+        for a in 0..self.schema.len() {
+            self.remaining[a] = self.pre_start[a + 1] - self.pre_start[a];
+        }
+        for &(view, t) in start {
+            let fact = self.offsets[view as usize] + t;
+            self.present[fact as usize] = true;
+            self.relax(fact, 0, NONE);
+        }
+        // A fact absent from the state needs no deletion.
+        for i in 0..self.negations.len() {
+            let (fact, negation) = self.negations[i];
+            if !self.present[fact as usize] {
+                self.relax(negation, 0, NONE);
+            }
+        }
+        for &(view, t) in start {
+            self.present[(self.offsets[view as usize] + t) as usize] = false;
+        }
+        for i in 0..self.unconditional.len() {
+            let a = self.unconditional[i] as usize;
+            for k in self.add_start[a]..self.add_start[a + 1] {
+                self.relax(self.add[k as usize], self.weight[a], a as u32);
+            }
+        }
+        let goals = self.goal_options.len();
+        let mut reached: Vec<u32> = vec![NONE; goals];
+        let mut remaining_goals = goals;
+        let mut h_add = 0u32;
+        while remaining_goals > 0 {
+            let Some(Reverse((cost, fact))) = self.queue.pop() else { break };
+            let f = fact as usize;
+            if self.done[f] || cost > self.cost[f] {
+                continue;
+            }
+            self.done[f] = true;
+            for k in self.goals_of_start[f]..self.goals_of_start[f + 1] {
+                let g = self.goals_of[k as usize] as usize;
+                if reached[g] == NONE {
+                    reached[g] = fact;
+                    remaining_goals -= 1;
+                    h_add = h_add.saturating_add(cost);
+                }
+            }
+            if remaining_goals == 0 {
+                break;
+            }
+            for k in self.users_start[f]..self.users_start[f + 1] {
+                let a = self.users[k as usize] as usize;
+                self.action_cost[a] = self.action_cost[a].saturating_add(cost);
+                self.remaining[a] -= 1;
+                if self.remaining[a] == 0 {
+                    let fired = self.action_cost[a].saturating_add(self.weight[a]);
+                    for j in self.add_start[a]..self.add_start[a + 1] {
+                        self.relax(self.add[j as usize], fired, a as u32);
+                    }
+                }
+            }
+        }
+        self.unreached = reached.iter().enumerate().filter(|(_, r)| **r == NONE).map(|(g, _)| g).collect();
+        if remaining_goals > 0 {
+            return Estimate::default();
+        }
+        let mut estimate = Estimate { h_add: Some(h_add), h_ff: None, helpful: Vec::new(), subgoals: Vec::new() };
+        if plan {
+            self.relaxed_plan(&reached, &mut estimate);
+        }
+        estimate
+    }
+
+    fn relaxed_plan(&mut self, reached: &[u32], estimate: &mut Estimate) {
+        let mut pending: BinaryHeap<(u32, u32)> = BinaryHeap::new();
+        for &fact in reached {
+            pending.push((self.cost[fact as usize], fact));
+        }
+        // Facts already handled (or added by a chosen action), and chosen actions.
+        let mut handled = vec![false; self.nodes];
+        let mut chosen = vec![false; self.schema.len()];
+        let mut length = 0u32;
+        while let Some((_, fact)) = pending.pop() {
+            let f = fact as usize;
+            if std::mem::replace(&mut handled[f], true) {
+                continue;
+            }
+            let a = self.supporter[f];
+            if a == NONE {
+                continue;
+            }
+            let a = a as usize;
+            if std::mem::replace(&mut chosen[a], true) {
+                continue;
+            }
+            length += self.weight[a];
+            for k in self.add_start[a]..self.add_start[a + 1] {
+                handled[self.add[k as usize] as usize] = true;
+            }
+            let mut first_layer = true;
+            for k in self.pre_start[a]..self.pre_start[a + 1] {
+                let p = self.pre[k as usize];
+                first_layer &= self.cost[p as usize] == 0;
+                pending.push((self.cost[p as usize], p));
+            }
+            if first_layer && self.weight[a] > 0 {
+                estimate.subgoals.push(fact);
+                estimate.helpful.push(Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() });
+            }
+        }
+        estimate.h_ff = Some(length);
+        estimate.subgoals.sort_unstable();
+        estimate.subgoals.dedup();
+    }
+}
