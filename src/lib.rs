@@ -18,6 +18,7 @@ pub mod driver;
 pub mod engine;
 pub mod intern;
 pub mod ir;
+pub mod ladder;
 pub mod passes;
 pub mod planner;
 pub mod source;

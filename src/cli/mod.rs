@@ -18,6 +18,7 @@ use crate::passes::load::{LoadedText, SourceLoader};
 use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
 use crate::syntax::printer;
 
+mod bench;
 mod plan;
 mod validate;
 
@@ -53,6 +54,13 @@ enum Command {
     /// numbered; `%` comments). The replay is independent of the planner's search code. Exits
     /// with 0 when every step applies, the goal holds at the end and no action is left running.
     Validate(validate::ValidateArgs),
+    /// Run the planner's scaling ladder: generated multi-arm blocks-world problems.
+    ///
+    /// Plans every rung (build, reverse and swap problems from 2 blocks and 3 arms up to 30
+    /// blocks and 6 arms) with the heuristic search and the paper's search, each under a
+    /// time budget, validates every plan, and prints plan length, makespan, states expanded,
+    /// time and the paper/heuristic time ratio. `--write DIR` writes the goal files instead.
+    Bench(bench::BenchArgs),
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -107,6 +115,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check(args, color),
         Command::Plan(args) => plan::run(args, color),
         Command::Validate(args) => validate::run(args, color),
+        Command::Bench(args) => bench::run(args),
         Command::Explain { code } => explain(&code),
     }
 }
@@ -137,6 +146,18 @@ fn read_text(path: &Path) -> Result<String, String> {
         return Err("the file is larger than 4 GiB".to_string());
     }
     String::from_utf8(bytes).map_err(|e| format!("not valid UTF-8 (byte {})", e.utf8_error().valid_up_to()))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
+/// `path` never holds a half-written file.
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.kbc-{}.tmp", std::process::id()));
+    let result = std::fs::write(&temporary, bytes).and_then(|()| std::fs::rename(&temporary, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
 }
 
 /// Reads the command line's files into `db`; unreadable ones become diagnostics.

@@ -1,0 +1,176 @@
+//! `kbc bench`: the planner's scaling ladder (see `crate::ladder`), as a table or JSON.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use clap::ValueEnum;
+
+use crate::ladder::{self, Row, Rung};
+use crate::planner::{Budget, SearchKind};
+
+#[derive(clap::Args)]
+pub(super) struct BenchArgs {
+    /// Which searches to run on every rung.
+    #[arg(long, value_enum, default_value_t = Searches::Both)]
+    search: Searches,
+    /// Only rungs whose name contains this text (e.g. `build`, `_b20_`).
+    #[arg(long, value_name = "TEXT")]
+    filter: Option<String>,
+    /// The seed of the generated problems.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Seconds each heuristic search may take.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    timeout: f64,
+    /// Seconds each paper search may take.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    paper_timeout: f64,
+    /// The paper's depth limit (default: its own default, 25).
+    #[arg(long, value_name = "N")]
+    max_depth: Option<u32>,
+    /// Write each rung's goal file into this directory instead of planning.
+    #[arg(long, value_name = "DIR")]
+    write: Option<PathBuf>,
+    /// The output format.
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Searches {
+    Both,
+    Heuristic,
+    Paper,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Text,
+    Json,
+}
+
+pub(super) fn run(args: BenchArgs) -> ExitCode {
+    let rungs: Vec<Rung> = ladder::standard()
+        .into_iter()
+        .map(|r| Rung { seed: args.seed, ..r })
+        .filter(|r| args.filter.as_deref().is_none_or(|f| r.name().contains(f)))
+        .collect();
+    if rungs.is_empty() {
+        eprintln!("error: no rung of the ladder matches `--filter`");
+        eprintln!("note: rung names look like `build_b08_a3_s1`: family, blocks, arms, seed");
+        return ExitCode::from(2);
+    }
+    if let Some(dir) = &args.write {
+        return write_rungs(dir, &rungs);
+    }
+    if !(args.timeout > 0.0 && args.timeout.is_finite() && args.paper_timeout > 0.0 && args.paper_timeout.is_finite()) {
+        eprintln!("error: timeouts must be positive numbers of seconds");
+        return ExitCode::from(2);
+    }
+    let searches: &[SearchKind] = match args.search {
+        Searches::Both => &[SearchKind::Heuristic, SearchKind::Paper],
+        Searches::Heuristic => &[SearchKind::Heuristic],
+        Searches::Paper => &[SearchKind::Paper],
+    };
+    let mut out = std::io::stdout().lock();
+    if args.format == Format::Text {
+        let _ = writeln!(
+            out,
+            "{:<20} {:<9} {:>7} {:>8} {:>9} {:>9}  {:>9}  result",
+            "problem", "search", "length", "makespan", "expanded", "seconds", "paper/heur"
+        );
+    }
+    let mut rows: Vec<Row> = Vec::new();
+    for rung in &rungs {
+        let mut heuristic_time = None;
+        for &search in searches {
+            let seconds = if search == SearchKind::Paper { args.paper_timeout } else { args.timeout };
+            let budget = Budget {
+                max_states: u64::MAX,
+                deadline: Some(Instant::now() + Duration::from_secs_f64(seconds)),
+                ..Budget::default()
+            };
+            let row = ladder::run(rung, search, budget, args.max_depth);
+            if search == SearchKind::Heuristic && row.result.is_ok() {
+                heuristic_time = Some(row.elapsed);
+            }
+            if args.format == Format::Text {
+                let ratio = match (search, &row.result, heuristic_time) {
+                    (SearchKind::Paper, Ok(_), Some(h)) => {
+                        format!("{:.1}x", row.elapsed.as_secs_f64() / h.as_secs_f64().max(1e-9))
+                    }
+                    _ => String::new(),
+                };
+                let _ = writeln!(
+                    out,
+                    "{:<20} {:<9} {:>7} {:>8} {:>9} {:>9.3}  {:>9}  {}",
+                    rung.name(),
+                    search_name(search),
+                    row.result.as_ref().map_or("-".to_string(), |n| n.to_string()),
+                    row.makespan.map_or("-".to_string(), |m| m.to_string()),
+                    row.expanded,
+                    row.elapsed.as_secs_f64(),
+                    ratio,
+                    match &row.result {
+                        Ok(_) => "solved",
+                        Err(why) => why,
+                    }
+                );
+                let _ = out.flush();
+            }
+            rows.push(row);
+        }
+    }
+    if args.format == Format::Json {
+        let rows: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|row| {
+                serde_json::json!({
+                    "problem": row.rung.name(),
+                    "family": row.rung.family.name(),
+                    "blocks": row.rung.blocks,
+                    "arms": row.rung.arms,
+                    "seed": row.rung.seed,
+                    "search": search_name(row.search),
+                    "solved": row.result.is_ok(),
+                    "length": row.result.as_ref().ok(),
+                    "failure": row.result.as_ref().err(),
+                    "makespan": row.makespan,
+                    "expanded": row.expanded,
+                    "seconds": row.elapsed.as_secs_f64(),
+                })
+            })
+            .collect();
+        let _ = writeln!(out, "{}", serde_json::Value::Array(rows));
+    }
+    // A plan that fails validation is a planner bug: make it visible in the exit status.
+    if rows.iter().any(|r| r.result.as_ref().is_err_and(|why| why.starts_with("INVALID PLAN"))) {
+        return ExitCode::from(1);
+    }
+    ExitCode::SUCCESS
+}
+
+fn search_name(search: SearchKind) -> &'static str {
+    match search {
+        SearchKind::Paper => "paper",
+        SearchKind::Heuristic => "heuristic",
+    }
+}
+
+fn write_rungs(dir: &std::path::Path, rungs: &[Rung]) -> ExitCode {
+    if let Err(error) = std::fs::create_dir_all(dir) {
+        eprintln!("error: cannot create `{}`: {error}", dir.display());
+        return ExitCode::from(1);
+    }
+    for rung in rungs {
+        let path = dir.join(format!("{}.pl", rung.name()));
+        if let Err(error) = super::write_atomically(&path, rung.source().as_bytes()) {
+            eprintln!("error: cannot write `{}`: {error}", path.display());
+            return ExitCode::from(1);
+        }
+    }
+    println!("wrote {} goal files to {}", rungs.len(), dir.display());
+    ExitCode::SUCCESS
+}
