@@ -60,7 +60,15 @@ fn unreadable_files_are_user_errors() {
 
 #[test]
 fn every_subcommand_has_help() {
-    for args in [&["--help"][..], &["check", "--help"], &["explain", "--help"], &["help", "check"]] {
+    for args in [
+        &["--help"][..],
+        &["check", "--help"],
+        &["explain", "--help"],
+        &["help", "check"],
+        &["plan", "--help"],
+        &["validate", "--help"],
+        &["bench", "--help"],
+    ] {
         let out = kbc(args);
         assert_eq!(out.status.code(), Some(0), "{args:?}");
         assert!(stdout(&out).contains("Usage: kbc"), "{args:?}: {}", stdout(&out));
@@ -125,4 +133,74 @@ fn includes_resolve_relative_to_the_including_file() {
         .output()
         .expect("kbc runs");
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+/// The plan lines of `kbc plan`'s text output, without the comment lines (figures vary).
+fn plan_lines(text: &str) -> Vec<String> {
+    text.lines().filter(|l| !l.starts_with('%')).map(str::to_string).collect()
+}
+
+#[test]
+fn plan_output_is_deterministic_and_validates() {
+    let first = kbc(&["plan", "examples/02_llm_stacking/test_case.pl"]);
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    let text = stdout(&first);
+    assert!(text.starts_with("% plan for test_case (heuristic search): "), "{text}");
+    assert!(text.lines().last().is_some_and(|l| l.starts_with("% makespan ")), "{text}");
+    for _ in 0..2 {
+        assert_eq!(plan_lines(&stdout(&kbc(&["plan", "examples/02_llm_stacking/test_case.pl"]))), plan_lines(&text));
+    }
+    let path = std::env::temp_dir().join(format!("kbc-cli-plan-{}.txt", std::process::id()));
+    std::fs::write(&path, &text).expect("writable temporary file");
+    let check = kbc(&["validate", "examples/02_llm_stacking/test_case.pl", path.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    assert!(stdout(&check).starts_with("the plan is valid: its "), "{}", stdout(&check));
+}
+
+#[test]
+fn plan_json_and_trace() {
+    let out = kbc(&["plan", "examples/01_paper_tests/tests.pl", "--problem", "test1", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let value: serde_json::Value = serde_json::from_str(stdout(&out).trim()).expect("one JSON object");
+    assert_eq!(value["problem"], "test1");
+    let steps = value["steps"].as_array().expect("steps");
+    assert_eq!(steps.len(), 12);
+    assert_eq!(steps[0]["index"], 1);
+    assert!(steps.iter().all(|s| s["snap"] == "start" || s["snap"] == "end"));
+    assert!(value["stats"]["expanded"].as_u64().is_some_and(|n| n > 0));
+
+    let traced =
+        kbc(&["plan", "examples/01_paper_tests/tests.pl", "--problem", "test1", "--search", "paper", "--trace"]);
+    let text = stdout(&traced);
+    let states = text.lines().filter(|l| l.contains("state: [")).count();
+    assert_eq!(states, 13, "the initial state and one after each step: {text}");
+    assert!(text.contains("ontable(b2, 3, 3)"), "{text}");
+}
+
+#[test]
+fn plan_needs_a_problem_name_when_there_are_several() {
+    let out = kbc(&["plan", "examples/01_paper_tests/tests.pl"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("error[E0302]"), "{}", stderr(&out));
+    assert_eq!(kbc(&["plan", "examples/01_paper_tests/tests.pl", "--search", "dfs"]).status.code(), Some(2));
+}
+
+#[test]
+fn bench_writes_the_ladder_and_runs_a_rung() {
+    let dir = std::env::temp_dir().join(format!("kbc-cli-ladder-{}", std::process::id()));
+    let out = kbc(&["bench", "--filter", "_b02_", "--write", dir.to_str().expect("UTF-8 path")]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let written: Vec<_> = std::fs::read_dir(&dir).expect("written").collect();
+    assert_eq!(written.len(), 3, "one rung per family");
+    let planned = kbc(&["plan", dir.join("swap_b02_a3_s1.pl").to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(planned.status.code(), Some(0), "{}", stderr(&planned));
+
+    let run = kbc(&["bench", "--filter", "build_b02_", "--search", "heuristic", "--format", "json"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
+    assert_eq!(rows[0]["problem"], "build_b02_a3_s1");
+    assert_eq!(rows[0]["solved"], true);
+    assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
 }
