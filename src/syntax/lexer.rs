@@ -293,7 +293,6 @@ pub struct Lexer<'a> {
     /// The last token produced and where it ended.
     previous: Option<Tok>,
     previous_end: u32,
-    produced: Option<Token>,
 }
 
 impl<'a> Lexer<'a> {
@@ -310,7 +309,6 @@ impl<'a> Lexer<'a> {
             stash: Vec::new(),
             previous: None,
             previous_end: 0,
-            produced: None,
         }
     }
 
@@ -352,8 +350,7 @@ impl Iterator for Lexer<'_> {
     fn next(&mut self) -> Option<Token> {
         loop {
             let current = self.raw()?;
-            self.cook(current);
-            if let Some(token) = self.produced.take() {
+            if let Some(token) = self.cook(current) {
                 return Some(token);
             }
         }
@@ -365,14 +362,19 @@ impl Lexer<'_> {
         Span::new(self.file, start, end)
     }
 
+    /// The token `tok` at `start..end`, remembered as the previous one.
+    ///
+    /// Tokens are returned by value all the way out of `next`: storing one in the lexer and
+    /// reading it back at once stalled store-to-load forwarding (narrow stores, wide loads)
+    /// and cost a fifth of the front end's time on large KBs.
     #[inline]
-    fn push(&mut self, tok: Tok, start: u32, end: u32) {
+    fn push(&mut self, tok: Tok, start: u32, end: u32) -> Option<Token> {
         let bytes = self.text.as_bytes();
         let line_start = self.previous.is_none() || bytes[self.previous_end as usize..start as usize].contains(&b'\n');
         let column0 = start == 0 || bytes[start as usize - 1] == b'\n';
         self.previous = Some(tok);
         self.previous_end = end;
-        self.produced = Some(Token { tok, start, end, line_start, column0, virtual_: false });
+        Some(Token { tok, start, end, line_start, column0, virtual_: false })
     }
 
     /// True if a `(` follows the token ending at `end` with no layout between.
@@ -394,7 +396,7 @@ impl Lexer<'_> {
 
     /// Cooks one raw token (and any it looks ahead at), leaving the token in `produced` unless
     /// the raw token is skipped.
-    fn cook(&mut self, current: RawToken<'_>) {
+    fn cook(&mut self, current: RawToken<'_>) -> Option<Token> {
         let RawToken { raw, start, end, text } = current;
         // The common tokens first; everything rare (errors, recovery) is out of line.
         match raw {
@@ -412,20 +414,20 @@ impl Lexer<'_> {
                 let body = self.unescape(&text[1..text.len() - 1], '\'', start + 1);
                 let symbol = self.interner.intern(&body);
                 let tok = if self.directly_followed_by_open(end) { Tok::Functor(symbol) } else { Tok::Name(symbol) };
-                self.push(tok, start, end);
+                self.push(tok, start, end)
             }
             Ok(Raw::Str) => {
                 let body = self.unescape(&text[1..text.len() - 1], '"', start + 1);
                 let symbol = self.interner.intern(&body);
-                self.push(Tok::Str(symbol), start, end);
+                self.push(Tok::Str(symbol), start, end)
             }
             Ok(Raw::Cut) => self.push(Tok::Name(sym::CUT), start, end),
             Ok(Raw::Semi) => {
                 let tok =
                     if self.directly_followed_by_open(end) { Tok::Functor(sym::SEMI) } else { Tok::Op(sym::SEMI) };
-                self.push(tok, start, end);
+                self.push(tok, start, end)
             }
-            Ok(Raw::BlockComment) => {}
+            Ok(Raw::BlockComment) => None,
             _ => self.cook_unusual(raw, start, end, text),
         }
     }
@@ -434,7 +436,7 @@ impl Lexer<'_> {
     /// kind of lexical error.
     #[cold]
     #[inline(never)]
-    fn cook_unusual(&mut self, raw: Result<Raw, RawError>, start: u32, end: u32, text: &str) {
+    fn cook_unusual(&mut self, raw: Result<Raw, RawError>, start: u32, end: u32, text: &str) -> Option<Token> {
         match raw {
             Err(RawError::UnterminatedComment) => {
                 self.diags.push(
@@ -443,8 +445,12 @@ impl Lexer<'_> {
                         .with_note("block comments do not nest; the first `*/` closes one")
                         .with_help("close the comment with `*/`"),
                 );
+                None
             }
-            Err(RawError::UnexpectedCharacter) => self.unexpected_character(start, end, text),
+            Err(RawError::UnexpectedCharacter) => {
+                self.unexpected_character(start, end, text);
+                None
+            }
             Ok(Raw::RadixInt) => {
                 let radix = match &text[..2] {
                     "0x" => 16,
@@ -465,7 +471,7 @@ impl Lexer<'_> {
                     "\\0" => 0,
                     _ => body.chars().next().map_or(0, |c| c as i64),
                 };
-                self.push(Tok::Int(code), start, end);
+                self.push(Tok::Int(code), start, end)
             }
             Ok(Raw::UnterminatedQuoted) | Ok(Raw::UnterminatedStr) => {
                 let quoted_atom = raw == Ok(Raw::UnterminatedQuoted);
@@ -480,7 +486,7 @@ impl Lexer<'_> {
                 );
                 let body = self.unescape(&text[1..], quote, start + 1);
                 let symbol = self.interner.intern(&body);
-                self.push(if quoted_atom { Tok::Name(symbol) } else { Tok::Str(symbol) }, start, end);
+                self.push(if quoted_atom { Tok::Name(symbol) } else { Tok::Str(symbol) }, start, end)
             }
             Ok(Raw::BangEq) => {
                 self.foreign_operator(
@@ -490,15 +496,15 @@ impl Lexer<'_> {
                     end,
                     "`\\=` means \"does not unify\"; for arithmetic inequality use `=\\=`",
                 );
-                self.push(Tok::Op(sym::NOT_UNIFY), start, end);
+                self.push(Tok::Op(sym::NOT_UNIFY), start, end)
             }
             Ok(Raw::Bar) => {
                 if self.byte_at(end) == Some(b'|') {
                     self.raw(); // the second `|`
                     self.foreign_operator("||", ";", start, end + 1, "in Prolog, `;` is disjunction");
-                    self.push(Tok::Op(sym::SEMI), start, end + 1);
+                    self.push(Tok::Op(sym::SEMI), start, end + 1)
                 } else {
-                    self.push(Tok::Bar, start, end);
+                    self.push(Tok::Bar, start, end)
                 }
             }
             Ok(Raw::OpenCurly) => {
@@ -514,7 +520,7 @@ impl Lexer<'_> {
                     .with_help("use a compound term or a list instead, e.g. `config(arms(2))`"),
                 );
                 let symbol = self.interner.intern("{}");
-                self.push(Tok::Name(symbol), start, group_end);
+                self.push(Tok::Name(symbol), start, group_end)
             }
             Ok(Raw::CloseCurly) => {
                 self.diags.push(
@@ -522,12 +528,15 @@ impl Lexer<'_> {
                         .primary(self.span(start, end), "no `{` is open here")
                         .with_fix("remove it", self.span(start, end), ""),
                 );
+                None
             }
             // Cooked by `cook`; listed so this match stays exhaustive without a panic.
             Ok(
                 Raw::Name | Raw::Var | Raw::Int | Raw::Comma | Raw::Open | Raw::Close | Raw::OpenList | Raw::CloseList,
             )
-            | Ok(Raw::Symbolic | Raw::Float | Raw::Quoted | Raw::Str | Raw::Cut | Raw::Semi | Raw::BlockComment) => {}
+            | Ok(Raw::Symbolic | Raw::Float | Raw::Quoted | Raw::Str | Raw::Cut | Raw::Semi | Raw::BlockComment) => {
+                None
+            }
         }
     }
 
@@ -570,16 +579,14 @@ impl Lexer<'_> {
         self.diags.push(diagnostic);
     }
 
-    fn name(&mut self, text: &str, start: u32, end: u32) {
+    fn name(&mut self, text: &str, start: u32, end: u32) -> Option<Token> {
         let symbol = self.interner.intern(text);
         if self.directly_followed_by_open(end) {
-            self.push(Tok::Functor(symbol), start, end);
-            return;
+            return self.push(Tok::Functor(symbol), start, end);
         }
         let operator = matches!(symbol, sym::IS | sym::MOD | sym::DYNAMIC | sym::DISCONTIGUOUS);
         if operator {
-            self.push(Tok::Op(symbol), start, end);
-            return;
+            return self.push(Tok::Op(symbol), start, end);
         }
         if let Some(open) = self.followed_by_open_after_layout(end) {
             self.diags.push(
@@ -590,13 +597,12 @@ impl Lexer<'_> {
                     .with_fix("remove the space", self.span(end, open), "")
                     .with_help(format!("write `{text}(`")),
             );
-            self.push(Tok::Functor(symbol), start, end);
-            return;
+            return self.push(Tok::Functor(symbol), start, end);
         }
-        self.push(Tok::Name(symbol), start, end);
+        self.push(Tok::Name(symbol), start, end)
     }
 
-    fn variable(&mut self, text: &str, start: u32, end: u32) {
+    fn variable(&mut self, text: &str, start: u32, end: u32) -> Option<Token> {
         if text != "_" && self.directly_followed_by_open(end) {
             let mut lowered = text.to_string();
             if let Some(first) = lowered.get_mut(0..1) {
@@ -621,14 +627,13 @@ impl Lexer<'_> {
                 .with_help(format!("write `{suggestion}(`")),
             );
             let symbol = self.interner.intern(&suggestion);
-            self.push(Tok::Functor(symbol), start, end);
-            return;
+            return self.push(Tok::Functor(symbol), start, end);
         }
         let symbol = self.interner.intern(text);
-        self.push(Tok::Var(symbol), start, end);
+        self.push(Tok::Var(symbol), start, end)
     }
 
-    fn integer(&mut self, digits: &str, radix: u32, start: u32, end: u32, negative: bool) {
+    fn integer(&mut self, digits: &str, radix: u32, start: u32, end: u32, negative: bool) -> Option<Token> {
         // Up to 18 decimal digits cannot overflow an i64: add them up directly.
         if radix == 10 && digits.len() <= 18 {
             let value = digits.bytes().fold(0i64, |v, b| v * 10 + i64::from(b - b'0'));
@@ -647,12 +652,12 @@ impl Lexer<'_> {
                         .primary(self.span(start, end), "does not fit in 64 bits")
                         .with_note("kbc integers are 64-bit: from -9223372036854775808 to 9223372036854775807"),
                 );
-                self.push(Tok::Int(0), start, end);
+                self.push(Tok::Int(0), start, end)
             }
         }
     }
 
-    fn float(&mut self, text: &str, start: u32, end: u32, negative: bool) {
+    fn float(&mut self, text: &str, start: u32, end: u32, negative: bool) -> Option<Token> {
         match text.parse::<f64>() {
             Ok(value) if value.is_finite() => self.push(Tok::Float(if negative { -value } else { value }), start, end),
             _ => {
@@ -660,22 +665,20 @@ impl Lexer<'_> {
                     Diagnostic::error(codes::BAD_NUMBER, "float literal out of range")
                         .primary(self.span(start, end), "too large for a 64-bit float"),
                 );
-                self.push(Tok::Float(0.0), start, end);
+                self.push(Tok::Float(0.0), start, end)
             }
         }
     }
 
     /// Cooks a symbol-character run; returns true if it consumed the following raw token too.
-    fn symbolic(&mut self, text: &str, start: u32, end: u32) {
+    fn symbolic(&mut self, text: &str, start: u32, end: u32) -> Option<Token> {
         if text == "." {
             let next = self.text.as_bytes().get(end as usize).copied();
             if matches!(next, None | Some(b' ' | b'\t' | b'\r' | b'\n' | b'\x0C' | b'%')) {
-                self.push(Tok::End, start, end);
-            } else {
-                let symbol = self.interner.intern(".");
-                self.push(Tok::SymbolAtom(symbol), start, end);
+                return self.push(Tok::End, start, end);
             }
-            return;
+            let symbol = self.interner.intern(".");
+            return self.push(Tok::SymbolAtom(symbol), start, end);
         }
         // A `-` directly before a number, where no operand precedes, is part of the literal.
         if text == "-"
@@ -725,18 +728,17 @@ impl Lexer<'_> {
             }
             "&&" => {
                 self.foreign_operator(text, ",", start, end, "in Prolog, `,` is conjunction");
-                self.push(Tok::Comma, start, end);
-                return;
+                return self.push(Tok::Comma, start, end);
             }
             _ => None,
         };
         let symbol = operator.unwrap_or_else(|| self.interner.intern(text));
         if self.directly_followed_by_open(end) {
-            self.push(Tok::Functor(symbol), start, end);
+            self.push(Tok::Functor(symbol), start, end)
         } else if operator.is_some() {
-            self.push(Tok::Op(symbol), start, end);
+            self.push(Tok::Op(symbol), start, end)
         } else {
-            self.push(Tok::SymbolAtom(symbol), start, end);
+            self.push(Tok::SymbolAtom(symbol), start, end)
         }
     }
 
