@@ -81,12 +81,16 @@ struct TerminalProgress {
     started: Instant,
     enabled: bool,
     shown: bool,
+    /// When the line was last drawn: it is redrawn at most ten times a second.
+    drawn: Option<Instant>,
 }
 
 impl Progress for TerminalProgress {
     fn report(&mut self, stats: &Stats) {
         let elapsed = self.started.elapsed();
-        if self.enabled && elapsed > Duration::from_secs(1) {
+        let due = self.drawn.is_none_or(|d| d.elapsed() >= Duration::from_millis(100));
+        if self.enabled && elapsed > Duration::from_secs(1) && due {
+            self.drawn = Some(Instant::now());
             eprint!(
                 "\r  searching: {} states expanded, {} generated, {:.1} s ",
                 stats.expanded,
@@ -140,8 +144,12 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
             ..planner::Budget::default()
         },
     };
-    let mut progress =
-        TerminalProgress { started: Instant::now(), enabled: std::io::stderr().is_terminal(), shown: false };
+    let mut progress = TerminalProgress {
+        started: Instant::now(),
+        enabled: std::io::stderr().is_terminal(),
+        shown: false,
+        drawn: None,
+    };
     let outcome = planner::search(kb, interner, &mut task, &options, &mut progress);
     if progress.shown {
         eprint!("\r{:60}\r", "");
