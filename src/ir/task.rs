@@ -37,6 +37,22 @@ pub enum Const {
     Compound(Symbol, Box<[ConstId]>),
 }
 
+/// The constant a ground term stands for, its arguments first, each looked up (or interned)
+/// by `id_of`; `None` if the term has a variable or `id_of` gives none.
+fn constant_of(term: &Term, id_of: &mut dyn FnMut(Const) -> Option<ConstId>) -> Option<ConstId> {
+    let value = match term {
+        Term::Var(_) => return None,
+        Term::Atom(s) => Const::Atom(*s),
+        Term::Int(i) => Const::Int(*i),
+        Term::Float(f) => Const::Float(f.to_bits()),
+        Term::Str(s) => Const::Str(*s),
+        Term::Compound(f, args) => {
+            Const::Compound(*f, args.iter().map(|a| constant_of(a, id_of)).collect::<Option<Box<[ConstId]>>>()?)
+        }
+    };
+    id_of(value)
+}
+
 /// The table of ground terms.
 #[derive(Clone, Debug, Default)]
 pub struct Consts {
@@ -63,34 +79,13 @@ impl Consts {
 
     /// Interns a ground HIR term; `None` if it has a variable.
     pub fn from_term(&mut self, term: &Term) -> Option<ConstId> {
-        let value = match term {
-            Term::Var(_) => return None,
-            Term::Atom(s) => Const::Atom(*s),
-            Term::Int(i) => Const::Int(*i),
-            Term::Float(f) => Const::Float(f.to_bits()),
-            Term::Str(s) => Const::Str(*s),
-            Term::Compound(f, args) => {
-                let args = args.iter().map(|a| self.from_term(a)).collect::<Option<Box<[ConstId]>>>()?;
-                Const::Compound(*f, args)
-            }
-        };
-        Some(self.intern(value))
+        constant_of(term, &mut |value| Some(self.intern(value)))
     }
 
     /// The id of a ground HIR term if it has been interned; `None` otherwise (or if it has a
     /// variable).
     pub fn find_term(&self, term: &Term) -> Option<ConstId> {
-        let value = match term {
-            Term::Var(_) => return None,
-            Term::Atom(s) => Const::Atom(*s),
-            Term::Int(i) => Const::Int(*i),
-            Term::Float(f) => Const::Float(f.to_bits()),
-            Term::Str(s) => Const::Str(*s),
-            Term::Compound(f, args) => {
-                Const::Compound(*f, args.iter().map(|a| self.find_term(a)).collect::<Option<Box<[ConstId]>>>()?)
-            }
-        };
-        self.map.get(&value).copied()
+        constant_of(term, &mut |value| self.map.get(&value).copied())
     }
 
     /// The HIR term of a constant.
