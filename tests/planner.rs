@@ -248,3 +248,22 @@ fn no_state_on_a_valid_plan_is_called_a_dead_end() {
         }
     }
 }
+
+#[test]
+fn without_grounding_the_lifted_heuristic_still_plans() {
+    // A grounding budget of nothing leaves the heuristic lifted (no Invalid conditions, no
+    // landmarks): slower, but the search must still find valid plans.
+    let frontend = load(&["examples/01_paper_tests/tests.pl"]);
+    for name in ["test1", "test2", "test3"] {
+        let p = problem(&frontend, name);
+        let mut task = passes::task::build(&frontend.kb, p);
+        let options = Options {
+            search: SearchKind::Heuristic,
+            max_depth: None,
+            budget: Budget { max_ground_actions: 0, ..budget(60) },
+        };
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+        let plan = outcome.result.unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));
+        assert_valid(&frontend, p, &plan);
+    }
+}

@@ -35,9 +35,6 @@ use super::timing::{Durations, Timeline};
 use super::{Budget, Failure, Outcome, Progress, Stats, over_budget, plan_from};
 use crate::ir::task::{State, Task};
 
-/// The most relaxed rule instantiations to ground; beyond it the heuristic stays lifted.
-const GROUNDING_LIMIT: usize = 1_000_000;
-
 struct Node {
     state: State,
     parent: u32,
@@ -92,7 +89,7 @@ pub fn search(
     let mut relaxation = Relaxation::new(task);
     {
         let (machine, cache) = successors.parts();
-        if let Err(error) = relaxation.ground(task, machine, cache, GROUNDING_LIMIT, true) {
+        if let Err(error) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
             return Outcome { result: Err(Failure::Condition(error)), stats };
         }
     }

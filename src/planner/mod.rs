@@ -47,11 +47,21 @@ pub struct Budget {
     pub max_bytes: usize,
     /// The most resolution steps for one OnKB query.
     pub engine_steps: u64,
+    /// The most relaxed rule instantiations the heuristic search grounds; beyond it the
+    /// heuristic is evaluated lifted, state by state (slower, same estimates without Invalid
+    /// conditions and landmarks).
+    pub max_ground_actions: usize,
 }
 
 impl Default for Budget {
     fn default() -> Self {
-        Budget { max_states: 1_000_000, deadline: None, max_bytes: 2 << 30, engine_steps: 1_000_000 }
+        Budget {
+            max_states: 1_000_000,
+            deadline: None,
+            max_bytes: 2 << 30,
+            engine_steps: 1_000_000,
+            max_ground_actions: 1_000_000,
+        }
     }
 }
 
