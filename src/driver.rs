@@ -122,3 +122,122 @@ pub fn select_problem(kb: &Kb, interner: &Interner, name: Option<&str>) -> Resul
     };
     Err(Box::new(diagnostic))
 }
+
+/// What the temporal passes produced for one plan.
+pub struct Timed {
+    /// The partial-order plan.
+    pub pop: crate::ir::pop::Pop,
+    /// Its simple temporal network.
+    pub stn: crate::ir::stn::Stn,
+    /// The earliest-start schedule.
+    pub schedule: crate::ir::schedule::Schedule,
+}
+
+/// Runs the temporal passes on a valid plan: achievers and the partial order, the STN with
+/// durations, consistency and the schedule. Warnings (default durations) and errors go to
+/// `diags`; an inconsistent network is an error whose labels mark each constraint of the
+/// negative cycle, and the result is `None`.
+pub fn schedule(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    plan: &crate::ir::plan::Plan,
+    diags: &mut Diagnostics,
+) -> Option<Timed> {
+    use crate::ir::{pop, schedule, stn};
+    use crate::passes;
+    let pop = passes::pop::build(kb, interner, plan);
+    internal_check("pop", pop::verify(kb, &pop));
+    let errors_before = diags.error_count();
+    let stn = passes::stn::build(kb, interner, program, &pop, diags);
+    internal_check("stn", stn::verify(&pop, &stn));
+    if diags.error_count() > errors_before {
+        return None;
+    }
+    match passes::schedule::solve(&stn) {
+        Ok(schedule) => {
+            internal_check("schedule", schedule::verify(&pop, &schedule));
+            Some(Timed { pop, stn, schedule })
+        }
+        Err(cycle) => {
+            diags.push(negative_cycle_diagnostic(kb, interner, &pop, &stn, &cycle));
+            None
+        }
+    }
+}
+
+fn internal_check(pass: &str, result: Result<(), String>) {
+    if cfg!(debug_assertions)
+        && let Err(message) = result
+    {
+        panic!("internal compiler error: the verifier failed after `{pass}`: {message}");
+    }
+}
+
+/// E0401, with a label on each constraint of the cycle.
+fn negative_cycle_diagnostic(
+    kb: &Kb,
+    interner: &Interner,
+    pop: &crate::ir::pop::Pop,
+    stn: &crate::ir::stn::Stn,
+    cycle: &crate::passes::schedule::NegativeCycle,
+) -> Diagnostic {
+    use crate::diag::codes;
+    use crate::ir::pop::Reason;
+    use crate::ir::stn::{DurationSource, EdgeKind, format_time};
+    let no_vars = hir::VarTable::default();
+    let step_name = |i: usize| format!("a{} `{}`", i + 1, hir::term_to_string(interner, &pop.steps[i].name, &no_vars));
+    let action_span = |i: usize| kb.actions[pop.steps[i].action].name.span;
+    let mut diagnostic = Diagnostic::error(
+        codes::INCONSISTENT_STN,
+        "no schedule satisfies the plan's durations and orderings".to_string(),
+    );
+    let mut chain = Vec::new();
+    for (k, &edge) in cycle.edges.iter().enumerate() {
+        let weight = stn.graph[edge];
+        let (span, message) = match weight.kind {
+            EdgeKind::Precedence { before, after, reason } => {
+                let span = match reason {
+                    Reason::Achiever { condition } => pop.steps[after].conditions.get(condition).map(|c| c.span),
+                    Reason::Threat { consumer, condition } if consumer < pop.steps.len() => {
+                        pop.steps[consumer].conditions.get(condition).map(|c| c.span)
+                    }
+                    Reason::Threat { condition, .. } => pop.goal.get(condition).map(|c| c.span),
+                    Reason::StartEnd => None,
+                }
+                .unwrap_or_else(|| action_span(after));
+                chain.push(format!("{} after {}", step_name(after), step_name(before)));
+                (span, format!("{} must wait for {}", step_name(after), step_name(before)))
+            }
+            EdgeKind::MinDuration { start, source } | EdgeKind::MaxDuration { start, source } => {
+                let bounds = stn.durations[start].expect("a start has bounds");
+                let is_max = matches!(weight.kind, EdgeKind::MaxDuration { .. });
+                let what = if is_max {
+                    format!("at most {}", bounds.max.map_or("inf".to_string(), format_time))
+                } else {
+                    format!("at least {}", format_time(bounds.min))
+                };
+                let running = crate::passes::stn::running_term(kb, &pop.steps[start]);
+                let shown = hir::term_to_string(interner, &running, &no_vars);
+                chain.push(format!("`{shown}` lasts {what}"));
+                let span = match source {
+                    DurationSource::Clause(span) => span,
+                    DurationSource::Default => action_span(start),
+                };
+                (span, format!("`{shown}` lasts {what}"))
+            }
+            EdgeKind::AfterOrigin => {
+                chain.push("nothing happens before time 0".to_string());
+                continue;
+            }
+        };
+        diagnostic = if k == 0 { diagnostic.primary(span, message) } else { diagnostic.secondary(span, message) };
+    }
+    diagnostic
+        .with_note(format!("these constraints form a cycle: {}", chain.join("; ")))
+        .with_note(format!(
+            "together they ask a time point to come {} time units before itself",
+            format_time(-cycle.weight)
+        ))
+        .with_help("correct the `duration/3` bounds, or ask for other plans with `--retries N`")
+}

@@ -69,6 +69,7 @@ well_known_symbols! {
     MAPPING = "mapping",
     RESOURCES = "resources",
     DURATION = "duration",
+    INF = "inf",
     INIT_STATE = "init_state",
     GOAL_STATE = "goal_state",
     GO = "go",

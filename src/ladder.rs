@@ -200,19 +200,22 @@ pub struct Row {
     pub rung: Rung,
     /// The search used.
     pub search: SearchKind,
-    /// `Ok(plan length)` when a plan was found (and validated), or why not.
+    /// `Ok(plan length)` when a plan was found (and validated, and its schedule too), or why
+    /// not.
     pub result: Result<usize, String>,
-    /// The plan's makespan under achiever-based earliest times.
-    pub makespan: Option<u32>,
+    /// The schedule's makespan and the time the plan would take one action at a time (each
+    /// at its minimum duration), in STN time.
+    pub makespan: Option<(i64, i64)>,
     /// States expanded.
     pub expanded: u64,
     /// Wall-clock time of the search.
     pub elapsed: Duration,
 }
 
-/// Plans `rung` with `search` under `budget` (`max_depth` for the paper's search), and
-/// validates the plan with [`validate`]. An invalid plan is a bug in the planner, reported in
-/// the row's result rather than hidden.
+/// Plans `rung` with `search` under `budget` (`max_depth` for the paper's search), validates
+/// the plan with [`validate`], schedules it (`driver::schedule`) and validates the timed plan
+/// with [`validate::validate_timed`]. An invalid plan or schedule is a bug, reported in the
+/// row's result rather than hidden.
 pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u32>) -> Row {
     let started = Instant::now();
     let mut db = SourceDb::new();
@@ -231,31 +234,18 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     }
     let (kb, interner) = (&frontend.kb, &frontend.interner);
     let mut task = passes::task::build(kb, 0);
-    let options = Options { search, max_depth, budget };
+    let options = Options { search, max_depth, budget, plans: 1 };
     let outcome = planner::search(kb, interner, &mut task, &options, &mut Silent);
     let stats = outcome.stats;
     match outcome.result {
         Ok(plan) => {
-            let steps: Vec<validate::PlanStep> = plan
-                .steps
-                .iter()
-                .map(|s| validate::PlanStep { name: s.name.clone(), span: kb.problems[0].span })
-                .collect();
-            let program = planner::program_for(kb, 0);
-            let verdict = validate::validate(kb, interner, &program, 0, &steps);
-            let result = if verdict.diagnostics.has_errors() {
-                Err(format!(
-                    "INVALID PLAN (a planner bug): {}",
-                    verdict.diagnostics.iter().next().map_or(String::new(), |d| d.message.clone())
-                ))
-            } else {
-                Ok(plan.steps.len())
-            };
+            let result = check(kb, interner, &plan);
+            let makespan = result.as_ref().ok().map(|&(makespan, sequential)| (makespan, sequential));
             Row {
                 rung: *rung,
                 search,
-                result,
-                makespan: stats.makespan,
+                result: result.map(|_| plan.steps.len()),
+                makespan,
                 expanded: stats.expanded,
                 elapsed: stats.elapsed,
             }
@@ -271,4 +261,41 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
             failed(why, stats.expanded, stats.elapsed)
         }
     }
+}
+
+/// Validates `plan`, schedules it and validates the schedule: the makespan and the sequential
+/// time, or what went wrong.
+fn check(
+    kb: &crate::ir::hir::Kb,
+    interner: &crate::intern::Interner,
+    plan: &crate::ir::plan::Plan,
+) -> Result<(i64, i64), String> {
+    let first_error = |diagnostics: &crate::diag::Diagnostics| {
+        diagnostics
+            .iter()
+            .find(|d| d.severity == crate::diag::Severity::Error)
+            .map_or(String::new(), |d| d.message.clone())
+    };
+    let span = kb.problems[plan.problem].span;
+    let steps: Vec<validate::PlanStep> =
+        plan.steps.iter().map(|s| validate::PlanStep { name: s.name.clone(), span, timing: None }).collect();
+    let program = planner::program_for(kb, plan.problem);
+    let verdict = validate::validate(kb, interner, &program, plan.problem, &steps);
+    if verdict.diagnostics.has_errors() {
+        return Err(format!("INVALID PLAN (a planner bug): {}", first_error(&verdict.diagnostics)));
+    }
+    let mut diagnostics = crate::diag::Diagnostics::new();
+    let Some(timed) = driver::schedule(kb, interner, &program, plan, &mut diagnostics) else {
+        return Err(format!("no schedule: {}", first_error(&diagnostics)));
+    };
+    let timed_steps: Vec<validate::PlanStep> = crate::ir::schedule::timed_actions(kb, &timed.pop, &timed.schedule)
+        .into_iter()
+        .map(|a| validate::PlanStep { name: a.name, span, timing: Some((a.time, a.duration)) })
+        .collect();
+    let verdict = validate::validate_timed(kb, interner, &program, plan.problem, &timed_steps);
+    if verdict.diagnostics.has_errors() {
+        return Err(format!("INVALID SCHEDULE (a scheduler bug): {}", first_error(&verdict.diagnostics)));
+    }
+    let sequential = timed.stn.durations.iter().flatten().map(|b| b.min).sum();
+    Ok((timed.schedule.makespan, sequential))
 }

@@ -21,6 +21,7 @@ pub mod ir;
 pub mod ladder;
 pub mod passes;
 pub mod planner;
+pub mod render;
 pub mod source;
 pub mod syntax;
 pub mod validate;

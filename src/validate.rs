@@ -19,6 +19,7 @@ use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::engine::{Cell, Machine, Next, Program};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Action, EffectKind, Kb, Level, Snap, Term};
+use crate::ir::plan::{Plan, Step};
 use crate::ir::unify::unifiable;
 use crate::source::{FileId, Span};
 use crate::syntax::ast;
@@ -26,22 +27,110 @@ use crate::syntax::ast;
 /// A step read from a plan file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanStep {
-    /// The ground action name.
+    /// The ground action name: a snap action (`grip_start(a1, b2)`) in a total-order plan, the
+    /// action (`grip(a1, b2)`) in a timed one.
     pub name: Term,
     /// Where it is written.
     pub span: Span,
+    /// In a timed plan, when it starts and (for a durative action) how long it lasts, in STN
+    /// time (thousandths of a time unit).
+    pub timing: Option<(i64, Option<i64>)>,
+}
+
+/// A time as PDDL plans write it (`12`, `1.5`, `0.001`), in thousandths; `None` if it is not
+/// a non-negative number with at most three decimals.
+fn parse_time(text: &str) -> Option<i64> {
+    let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
+    if whole.is_empty() && fraction.is_empty()
+        || !whole.bytes().all(|b| b.is_ascii_digit())
+        || !fraction.bytes().all(|b| b.is_ascii_digit())
+        || fraction.len() > 3
+    {
+        return None;
+    }
+    let whole: i64 = if whole.is_empty() { 0 } else { whole.parse().ok()? };
+    let fraction: i64 = if fraction.is_empty() { 0 } else { format!("{fraction:0<3}").parse().ok()? };
+    whole.checked_mul(crate::ir::stn::UNITS)?.checked_add(fraction)
+}
+
+/// A line of a timed plan, `0.000: (grip a1 b2) [1.000]`: the start, the action as a term's
+/// text (`grip(a1, b2)`), its offset in the line, and the duration. `None` if the line is
+/// not of that shape.
+fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
+    let (time, rest) = line.split_once(':')?;
+    let time = parse_time(time.trim())?;
+    let open = rest.find('(')?;
+    let close = rest.rfind(')')?;
+    let inner = rest.get(open + 1..close)?.trim();
+    let after = rest[close + 1..].trim();
+    let duration = match after.strip_prefix('[').and_then(|d| d.strip_suffix(']')) {
+        Some(d) => Some(parse_time(d.trim())?),
+        None if after.is_empty() => None,
+        None => return None,
+    };
+    // Split at top-level spaces: arguments may be compound terms written without spaces.
+    let mut words: Vec<String> = Vec::new();
+    let mut depth = 0i32;
+    let mut quoted = false;
+    let mut word = String::new();
+    for c in inner.chars() {
+        match c {
+            '\'' => quoted = !quoted,
+            '(' | '[' if !quoted => depth += 1,
+            ')' | ']' if !quoted => depth -= 1,
+            _ => {}
+        }
+        if c.is_whitespace() && depth == 0 && !quoted {
+            if !word.is_empty() {
+                words.push(std::mem::take(&mut word));
+            }
+        } else {
+            word.push(c);
+        }
+    }
+    if !word.is_empty() {
+        words.push(word);
+    }
+    let (name, args) = words.split_first()?;
+    let text = if args.is_empty() { name.clone() } else { format!("{name}({})", args.join(", ")) };
+    let offset = line.len() - rest.len() + open;
+    Some((time, text, offset, duration))
 }
 
 /// Reads a plan file: one step per line, optionally numbered and ended by `.`; lines starting
-/// with `%` and blank lines are skipped.
+/// with `%` and blank lines are skipped. A timed plan has lines such as
+/// `0.000: (grip a1 b2) [1.000]` instead (the PDDL 2.1 plan format that `kbc plan --schedule`
+/// prints); a file is one or the other.
 pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut Diagnostics) -> Vec<PlanStep> {
-    let mut steps = Vec::new();
+    let mut steps: Vec<PlanStep> = Vec::new();
     let mut offset = 0usize;
     for line in text.split_inclusive('\n') {
         let line_start = offset;
         offset += line.len();
         let trimmed = line.trim();
         if trimmed.is_empty() || trimmed.starts_with('%') {
+            continue;
+        }
+        if let Some((time, term_text, at, duration)) = timed_line(line.trim_end()) {
+            let span = Span::new(file, (line_start + at) as u32, (line_start + line.trim_end().len()) as u32);
+            if steps.first().is_some_and(|s| s.timing.is_none()) {
+                diags.push(
+                    Diagnostic::error(codes::BAD_PLAN_FILE, "a timed step in a total-order plan")
+                        .primary(span, "this line has a time")
+                        .with_note("a plan file lists snap actions in order, or timed actions; not both"),
+                );
+                continue;
+            }
+            match parse_step(&term_text, interner) {
+                Some(name) if name.callable().is_some() => {
+                    steps.push(PlanStep { name, span, timing: Some((time, duration)) })
+                }
+                _ => diags.push(
+                    Diagnostic::error(codes::BAD_PLAN_FILE, "expected a ground action such as `(grip a1 b2)`")
+                        .primary(span, "this action is not ground")
+                        .with_note("a timed plan line is `TIME: (ACTION ARGS...) [DURATION]`"),
+                ),
+            }
             continue;
         }
         // Skip a step number such as `12 ` and a final `.`.
@@ -54,8 +143,16 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
         // `term_text` is a subslice of `line`, so its offset is a pointer difference.
         let term_start = line_start + (term_text.as_ptr() as usize - line.as_ptr() as usize);
         let span = Span::new(file, term_start as u32, (term_start + term_text.len()) as u32);
+        if steps.first().is_some_and(|s| s.timing.is_some()) {
+            diags.push(
+                Diagnostic::error(codes::BAD_PLAN_FILE, "expected a timed step such as `0.000: (grip a1 b2) [1.000]`")
+                    .primary(span, "this line has no time")
+                    .with_note("a plan file lists snap actions in order, or timed actions; not both"),
+            );
+            continue;
+        }
         match parse_step(term_text, interner) {
-            Some(name) if name.callable().is_some() => steps.push(PlanStep { name, span }),
+            Some(name) if name.callable().is_some() => steps.push(PlanStep { name, span, timing: None }),
             Some(_) => diags.push(
                 Diagnostic::error(codes::BAD_PLAN_FILE, "expected an action, found a term that is not one")
                     .primary(span, "not an atom or compound term"),
@@ -145,6 +242,8 @@ struct State {
     facts: BTreeSet<String>,
     terms: Vec<Term>,
     running: Vec<String>,
+    /// The schema and bindings of the step that led here (not part of the state's identity).
+    via: Option<(usize, Bindings)>,
 }
 
 impl State {
@@ -159,6 +258,9 @@ pub struct Verdict {
     pub diagnostics: Diagnostics,
     /// The number of steps that applied.
     pub applied: usize,
+    /// The steps that applied, with the schema and the values of its variables each one used:
+    /// the plan for the later passes.
+    pub plan: Plan,
 }
 
 struct Replayer<'a, 'p> {
@@ -185,7 +287,7 @@ struct Miss {
 impl Replayer<'_, '_> {
     fn initial_state(&self) -> State {
         let problem = &self.kb.problems[self.problem];
-        let mut state = State { facts: BTreeSet::new(), terms: Vec::new(), running: Vec::new() };
+        let mut state = State { facts: BTreeSet::new(), terms: Vec::new(), running: Vec::new(), via: None };
         for literal in &problem.init {
             if state.facts.insert(key(self.interner, &literal.term)) {
                 state.terms.push(literal.term.clone());
@@ -419,6 +521,7 @@ impl Replayer<'_, '_> {
         }
         next.terms.sort_by_key(|t| key(self.interner, t));
         next.running.sort();
+        next.via = Some((index, bindings.clone()));
         results.push(next);
     }
 
@@ -450,11 +553,17 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
     let mut replayer = Replayer { kb, interner, problem, machine: Machine::new(program, 1_000_000) };
     let mut diagnostics = Diagnostics::new();
     let mut state = replayer.initial_state();
+    let mut plan = Plan { problem, steps: Vec::new() };
     let no_vars = hir::VarTable::default();
     for (i, step) in steps.iter().enumerate() {
         let shown = hir::term_to_string(interner, &step.name, &no_vars);
         match replayer.successors(&state, &step.name) {
-            Ok(mut next) if next.len() == 1 => state = next.remove(0),
+            Ok(mut next) if next.len() == 1 => {
+                state = next.remove(0);
+                if let Some((action, bindings)) = state.via.take() {
+                    plan.steps.push(Step { action, name: step.name.clone(), bindings });
+                }
+            }
             Ok(next) => {
                 diagnostics.push(
                     Diagnostic::error(codes::INVALID_PLAN, format!("step {} `{shown}` is ambiguous", i + 1))
@@ -462,7 +571,7 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
                         .with_note("several schemas or bindings apply to this step with different effects")
                         .with_help("give the schemas distinct names, or make their conditions exclusive"),
                 );
-                return Verdict { diagnostics, applied: i };
+                return Verdict { diagnostics, applied: i, plan };
             }
             Err(miss) => {
                 let mut diagnostic =
@@ -487,7 +596,7 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
                 let listed: Vec<String> = facts.iter().take(12).map(|f| f.to_string()).collect();
                 let more = if facts.len() > 12 { format!(", and {} more", facts.len() - 12) } else { String::new() };
                 diagnostics.push(diagnostic.with_note(format!("the state is [{}{more}]", listed.join(", "))));
-                return Verdict { diagnostics, applied: i };
+                return Verdict { diagnostics, applied: i, plan };
             }
         }
     }
@@ -518,5 +627,196 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
         };
         diagnostics.push(diagnostic);
     }
-    Verdict { diagnostics, applied: steps.len() }
+    Verdict { diagnostics, applied: steps.len(), plan }
+}
+
+/// One event of a timed plan: a snap action at a time.
+struct Event {
+    time: i64,
+    /// 0 for an end, 1 for an instantaneous action, 2 for a start: at equal times ends happen
+    /// first, as in PDDL 2.1.
+    order: u8,
+    name: Term,
+    /// The timed step it comes from.
+    step: usize,
+}
+
+/// The snap-action name `X_start(args)` or `X_end(args)` of a durative action `X(args)`, if
+/// the KB has that durative action.
+fn snap_name(kb: &Kb, action: &Term, snap: Snap) -> Option<Term> {
+    let (name, arity) = action.callable()?;
+    let schema = kb
+        .actions
+        .iter()
+        .find(|a| a.level == Level::High && a.snap == snap && a.base == name && a.name.arity() == arity)?;
+    let functor = schema.name.name();
+    Some(match action {
+        Term::Compound(_, args) => Term::Compound(functor, args.clone()),
+        _ => Term::Atom(functor),
+    })
+}
+
+/// The bounds `duration(X(args), Min, Max)` gives, in STN time, or the default.
+fn duration_bounds(machine: &mut Machine<'_>, action: &Term) -> Result<(i64, i64), String> {
+    use crate::ir::stn::{DEFAULT_DURATION, UNITS};
+    machine.reset();
+    let mut vars = [None, None];
+    let query =
+        Term::Compound(sym::DURATION, Box::new([action.clone(), Term::Var(hir::VarId(0)), Term::Var(hir::VarId(1))]));
+    let goal = machine.put_term(&query, &mut vars);
+    let (Some(min), Some(max)) = (vars[0], vars[1]) else { return Err("the query has no variables".into()) };
+    let mut found = None;
+    let to_time = |m: &Machine<'_>, cell: Cell| match m.deref(cell) {
+        Cell::Atom(sym::INF) => Some(i64::MAX),
+        Cell::Int(i) => i.checked_mul(UNITS),
+        Cell::Float(f) if f.is_finite() && f.abs() < 1e12 => Some((f * UNITS as f64).round() as i64),
+        _ => None,
+    };
+    machine
+        .solve(goal, |m| {
+            found = Some((to_time(m, min), to_time(m, max)));
+            Next::Stop
+        })
+        .map_err(|e| format!("{e:?}"))?;
+    match found {
+        None => Ok((DEFAULT_DURATION * UNITS, DEFAULT_DURATION * UNITS)),
+        Some((Some(min), Some(max))) => Ok((min, max)),
+        Some(_) => Err("its bounds are not numbers".into()),
+    }
+}
+
+/// Replays a timed plan event by event, as PDDL 2.1 defines its execution: each durative
+/// action starts at its time and ends its duration later, at equal times ends happen before
+/// instantaneous actions and those before starts, and the events of one instant must not
+/// depend on each other (each group is replayed in both orders and must give the same state).
+/// Every duration must lie within the action's `duration/3` bounds (or the default).
+pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: usize, steps: &[PlanStep]) -> Verdict {
+    use crate::ir::stn::format_time;
+    let mut replayer = Replayer { kb, interner, problem, machine: Machine::new(program, 1_000_000) };
+    let mut diagnostics = Diagnostics::new();
+    let plan = Plan { problem, steps: Vec::new() };
+    let no_vars = hir::VarTable::default();
+    let mut events: Vec<Event> = Vec::new();
+    for (i, step) in steps.iter().enumerate() {
+        let shown = hir::term_to_string(interner, &step.name, &no_vars);
+        let Some((time, duration)) = step.timing else {
+            diagnostics
+                .push(Diagnostic::error(codes::BAD_PLAN_FILE, "expected a timed step").primary(step.span, "no time"));
+            return Verdict { diagnostics, applied: 0, plan };
+        };
+        let start = snap_name(kb, &step.name, Snap::Start);
+        let end = snap_name(kb, &step.name, Snap::End);
+        match (start, end, duration) {
+            (Some(start), Some(end), Some(duration)) => {
+                match duration_bounds(&mut replayer.machine, &step.name) {
+                    Ok((min, max)) if duration < min || duration > max => {
+                        diagnostics.push(
+                            Diagnostic::error(
+                                codes::INVALID_SCHEDULE,
+                                format!("`{shown}` lasts {}, outside its bounds", format_time(duration)),
+                            )
+                            .primary(
+                                step.span,
+                                format!(
+                                    "between {} and {} time units",
+                                    format_time(min),
+                                    if max == i64::MAX { "inf".to_string() } else { format_time(max) }
+                                ),
+                            )
+                            .with_note("the bounds come from `duration/3` (or the default of 1 time unit)"),
+                        );
+                        return Verdict { diagnostics, applied: 0, plan };
+                    }
+                    Ok(_) => {}
+                    Err(why) => {
+                        diagnostics.push(
+                            Diagnostic::error(
+                                codes::BAD_DURATION_VALUE,
+                                format!("cannot read the duration of `{shown}`: {why}"),
+                            )
+                            .primary(step.span, "this action"),
+                        );
+                        return Verdict { diagnostics, applied: 0, plan };
+                    }
+                }
+                events.push(Event { time, order: 2, name: start, step: i });
+                events.push(Event { time: time + duration, order: 0, name: end, step: i });
+            }
+            (Some(_), Some(_), None) => {
+                diagnostics.push(
+                    Diagnostic::error(codes::INVALID_SCHEDULE, format!("`{shown}` is durative but has no duration"))
+                        .primary(step.span, "add `[DURATION]` after the action"),
+                );
+                return Verdict { diagnostics, applied: 0, plan };
+            }
+            _ => events.push(Event { time, order: 1, name: step.name.clone(), step: i }),
+        }
+    }
+    events.sort_by_key(|e| (e.time, e.order, e.step));
+    let mut state = replayer.initial_state();
+    let mut at = 0;
+    while at < events.len() {
+        let group_end = events[at..]
+            .iter()
+            .position(|e| (e.time, e.order) != (events[at].time, events[at].order))
+            .map_or(events.len(), |n| at + n);
+        let group = &events[at..group_end];
+        let mut results = Vec::new();
+        for order in [false, true] {
+            let mut current = state.clone();
+            let sequence: Vec<&Event> = if order { group.iter().rev().collect() } else { group.iter().collect() };
+            for event in sequence {
+                match replayer.successors(&current, &event.name) {
+                    Ok(mut next) if next.len() == 1 => current = next.remove(0),
+                    outcome => {
+                        let shown = hir::term_to_string(interner, &event.name, &no_vars);
+                        let mut diagnostic = Diagnostic::error(
+                            codes::INVALID_SCHEDULE,
+                            format!("`{shown}` cannot happen at {}", format_time(event.time)),
+                        )
+                        .primary(steps[event.step].span, "scheduled here");
+                        diagnostic = match outcome {
+                            Err(Some(miss)) => diagnostic.secondary(miss.span, miss.label).with_note(miss.reason),
+                            Ok(next) => diagnostic.with_note(format!("{} different states can follow", next.len())),
+                            Err(None) => diagnostic.with_note("no action schema has this name and arity"),
+                        };
+                        if order && group.len() > 1 {
+                            diagnostic = diagnostic.with_note(
+                                "it depends on another action at the same time; separate them by a thousandth",
+                            );
+                        }
+                        diagnostics.push(diagnostic);
+                        return Verdict { diagnostics, applied: at, plan };
+                    }
+                }
+            }
+            results.push(current);
+        }
+        if results[0].identity() != results[1].identity() {
+            diagnostics.push(
+                Diagnostic::error(
+                    codes::INVALID_SCHEDULE,
+                    format!("actions at {} interfere with each other", format_time(group[0].time)),
+                )
+                .primary(steps[group[0].step].span, "one of them")
+                .with_note("their effects depend on the order they happen in"),
+            );
+            return Verdict { diagnostics, applied: at, plan };
+        }
+        state = results.swap_remove(0);
+        at = group_end;
+    }
+    let problem_name = interner.resolve(kb.problems[problem].name);
+    if !state.running.is_empty() {
+        diagnostics.push(
+            Diagnostic::error(codes::INVALID_SCHEDULE, format!("the plan leaves {} running", state.running.join(", ")))
+                .with_note("every durative action started must end"),
+        );
+    } else if !replayer.goal_reached(&state) {
+        diagnostics.push(Diagnostic::error(
+            codes::INVALID_SCHEDULE,
+            format!("the timed plan does not reach the goal of `{problem_name}`"),
+        ));
+    }
+    Verdict { diagnostics, applied: events.len(), plan }
 }

@@ -40,7 +40,7 @@ fn budget(seconds: u64) -> Budget {
 
 fn plan(frontend: &Frontend, problem: usize, search: SearchKind) -> Plan {
     let mut task = passes::task::build(&frontend.kb, problem);
-    let options = Options { search, max_depth: None, budget: budget(60) };
+    let options = Options { search, max_depth: None, budget: budget(60), plans: 1 };
     let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
     outcome.result.unwrap_or_else(|failure| panic!("no plan: {failure:?}"))
 }
@@ -48,7 +48,8 @@ fn plan(frontend: &Frontend, problem: usize, search: SearchKind) -> Plan {
 /// Replays `plan` with the validator; panics with its diagnostic if it is not a solution.
 fn assert_valid(frontend: &Frontend, problem: usize, plan: &Plan) {
     let span = frontend.kb.problems[problem].span;
-    let steps: Vec<PlanStep> = plan.steps.iter().map(|s| PlanStep { name: s.name.clone(), span }).collect();
+    let steps: Vec<PlanStep> =
+        plan.steps.iter().map(|s| PlanStep { name: s.name.clone(), span, timing: None }).collect();
     let program = planner::program_for(&frontend.kb, problem);
     let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
     assert!(
@@ -96,6 +97,7 @@ fn the_paper_search_gives_up_on_the_four_block_case_within_its_budget() {
         search: SearchKind::Paper,
         max_depth: None,
         budget: Budget { max_states: 20_000, ..Budget::default() },
+        plans: 1,
     };
     let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
     assert_eq!(outcome.result.err(), Some(planner::Failure::Budget(planner::BudgetKind::States)));
@@ -261,6 +263,7 @@ fn without_grounding_the_lifted_heuristic_still_plans() {
             search: SearchKind::Heuristic,
             max_depth: None,
             budget: Budget { max_ground_actions: 0, ..budget(60) },
+            plans: 1,
         };
         let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
         let plan = outcome.result.unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));

@@ -1,7 +1,9 @@
-//! `kbc plan`: finds a total-order plan for one problem and prints it.
+//! `kbc plan`: finds a total-order plan for one problem (or reads one), schedules it, and
+//! prints it.
 //!
-//! The text output is itself a plan file: numbered snap actions, with statistics and traces as
-//! `%` comment lines, so `kbc plan ... > plan.txt` feeds `kbc validate`.
+//! The text output is itself a plan file: numbered snap actions, with figures and traces as
+//! `%` comment lines, so `kbc plan ... > plan.txt` feeds `kbc validate`; with `--schedule` it
+//! is a timed plan in the PDDL 2.1 format, which `kbc validate` reads too.
 
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -15,9 +17,14 @@ use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::driver;
 use crate::ir::hir::{self, Kb, VarTable};
 use crate::ir::plan::{self, Plan};
+use crate::ir::pop::Achiever;
+use crate::ir::schedule;
+use crate::ir::stn::{UNITS, format_time};
 use crate::passes;
 use crate::planner::{self, BudgetKind, Failure, Options, Progress, SearchKind, Stats};
+use crate::render;
 use crate::source::SourceDb;
+use crate::validate;
 
 #[derive(clap::Args)]
 pub(super) struct PlanArgs {
@@ -51,15 +58,53 @@ pub(super) struct PlanArgs {
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
-    /// Print the planning task (schemas as patterns, initial state, goal) on stdout first.
+    /// Print an intermediate representation on stdout first: the planning task, the
+    /// partial-order plan (with the achievers of every step), the STN, or the schedule.
     #[arg(long, value_enum, value_name = "PASS")]
     dump_after: Option<PlanDump>,
+    /// Schedule this total-order plan (a plan file, as `kbc plan` prints them) instead of
+    /// searching for one.
+    #[arg(long, value_name = "FILE")]
+    plan: Option<PathBuf>,
+    /// Print the timed plan, in the PDDL 2.1 plan format, instead of the total order.
+    #[arg(long)]
+    schedule: bool,
+    /// Write a picture instead: the partial order or the STN as Graphviz, or the schedule as
+    /// an SVG Gantt chart with one lane per arm.
+    #[arg(long, value_enum, value_name = "KIND")]
+    emit: Option<Emit>,
+    /// Where `--emit` writes (default: stdout).
+    #[arg(short, long, value_name = "FILE", requires = "emit")]
+    output: Option<PathBuf>,
+    /// When a plan cannot be scheduled (its durations and orderings contradict each other),
+    /// ask the search for up to this many other plans.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    retries: u32,
+    /// Find this many plans and keep the one with the shortest makespan.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    candidates: u32,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum PlanDump {
     /// The planning task the search runs on.
     Task,
+    /// The partial-order plan: achievers and orderings.
+    Pop,
+    /// The simple temporal network.
+    Stn,
+    /// The earliest-start schedule.
+    Schedule,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Emit {
+    /// The partial-order plan as Graphviz DOT.
+    PopDot,
+    /// The STN's distance graph as Graphviz DOT.
+    StnDot,
+    /// The schedule as an SVG Gantt chart, one lane per arm.
+    GanttSvg,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -106,88 +151,219 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
     let roots = super::read_roots(&args.files, &mut db, &mut diagnostics);
-    let frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
-    diagnostics.extend(frontend.diagnostics);
+    let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
+    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
+        report(db, diagnostics, args.message_format, color);
+        ExitCode::from(1)
+    };
     if diagnostics.has_errors() {
-        report(&db, &diagnostics, args.message_format, color);
-        return ExitCode::from(1);
+        return fail(&db, &diagnostics);
     }
-    let kb = &frontend.kb;
-    let interner = &frontend.interner;
-    let problem = match driver::select_problem(kb, interner, args.problem.as_deref()) {
+    let problem = match driver::select_problem(&frontend.kb, &frontend.interner, args.problem.as_deref()) {
         Ok(problem) => problem,
         Err(diagnostic) => {
             diagnostics.push(*diagnostic);
-            report(&db, &diagnostics, args.message_format, color);
-            return ExitCode::from(1);
+            return fail(&db, &diagnostics);
         }
     };
-    let mut task = passes::task::build(kb, problem);
-    if cfg!(debug_assertions) {
-        crate::ir::task::verify(&task)
-            .unwrap_or_else(|e| panic!("internal compiler error: the task verifier failed: {e}"));
+    let program = planner::program_for(&frontend.kb, problem);
+    // The total-order plans to schedule: read from a file, or found by the search.
+    let (plans, origin, stats, mut task) = match &args.plan {
+        Some(path) => {
+            let plan_file = super::read_roots(std::slice::from_ref(path), &mut db, &mut diagnostics);
+            let Some(&file) = plan_file.first() else { return fail(&db, &diagnostics) };
+            let text = db.file(file).text_arc();
+            let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
+            if diagnostics.has_errors() {
+                return fail(&db, &diagnostics);
+            }
+            let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
+            diagnostics.extend(verdict.diagnostics);
+            if diagnostics.has_errors() {
+                return fail(&db, &diagnostics);
+            }
+            let task = passes::task::build(&frontend.kb, problem);
+            (vec![verdict.plan], format!("plan file {}", path.display()), None, task)
+        }
+        None => {
+            let mut task = passes::task::build(&frontend.kb, problem);
+            if cfg!(debug_assertions) {
+                crate::ir::task::verify(&task)
+                    .unwrap_or_else(|e| panic!("internal compiler error: the task verifier failed: {e}"));
+            }
+            if let Some(PlanDump::Task) = args.dump_after {
+                let text = crate::ir::task::print(&frontend.interner, &frontend.kb, &task);
+                let _ = std::io::stdout().lock().write_all(text.as_bytes());
+            }
+            let search = match args.search {
+                SearchArg::Paper => SearchKind::Paper,
+                SearchArg::Heuristic => SearchKind::Heuristic,
+            };
+            let options = Options {
+                search,
+                max_depth: args.max_depth,
+                budget: planner::Budget {
+                    max_states: args.max_states,
+                    deadline: args.timeout.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))),
+                    max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
+                    ..planner::Budget::default()
+                },
+                plans: (args.retries as usize + 1).max(args.candidates.max(1) as usize),
+            };
+            let mut progress = TerminalProgress {
+                started: Instant::now(),
+                enabled: std::io::stderr().is_terminal(),
+                shown: false,
+                drawn: None,
+            };
+            let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut progress);
+            if progress.shown {
+                eprint!("\r{:60}\r", "");
+            }
+            let name = frontend.interner.resolve(frontend.kb.problems[problem].name).to_string();
+            match outcome.result {
+                Ok(first) => {
+                    let mut plans = vec![first];
+                    plans.extend(outcome.alternatives);
+                    let origin = match search {
+                        SearchKind::Paper => "paper search",
+                        SearchKind::Heuristic => "heuristic search",
+                    };
+                    (plans, origin.to_string(), Some(outcome.stats), task)
+                }
+                Err(failure) => {
+                    let (kb, interner) = (&frontend.kb, &frontend.interner);
+                    diagnostics.push(failure_diagnostic(
+                        kb,
+                        interner,
+                        &task,
+                        &name,
+                        &failure,
+                        &outcome.stats,
+                        &options,
+                    ));
+                    return fail(&db, &diagnostics);
+                }
+            }
+        }
+    };
+    let (kb, interner) = (&frontend.kb, &frontend.interner);
+    // Schedule the plans: the first consistent one, or among the first `--candidates`
+    // consistent ones the one with the shortest makespan.
+    let mut chosen: Option<(usize, driver::Timed)> = None;
+    let mut first_failure: Option<Diagnostics> = None;
+    let mut consistent = 0usize;
+    for (index, plan) in plans.iter().enumerate() {
+        if cfg!(debug_assertions) {
+            plan::verify(kb, plan).unwrap_or_else(|e| panic!("internal compiler error: the plan verifier failed: {e}"));
+        }
+        let mut attempt = Diagnostics::new();
+        match driver::schedule(kb, interner, &program, plan, &mut attempt) {
+            Some(timed) => {
+                consistent += 1;
+                let better = chosen.as_ref().is_none_or(|(_, best)| timed.schedule.makespan < best.schedule.makespan);
+                if better {
+                    if chosen.is_none() {
+                        diagnostics.extend(attempt); // warnings, once
+                    }
+                    chosen = Some((index, timed));
+                }
+                if consistent >= args.candidates.max(1) as usize {
+                    break;
+                }
+            }
+            None => {
+                first_failure.get_or_insert(attempt);
+                if chosen.is_none() && index >= args.retries as usize {
+                    break;
+                }
+            }
+        }
     }
-    if let Some(PlanDump::Task) = args.dump_after {
-        let _ = std::io::stdout().lock().write_all(crate::ir::task::print(interner, kb, &task).as_bytes());
+    let Some((index, timed)) = chosen else {
+        diagnostics.extend(first_failure.unwrap_or_default());
+        if plans.len() > 1 {
+            diagnostics.push(Diagnostic::note(format!(
+                "the search found {} plans and none of them can be scheduled",
+                plans.len()
+            )));
+        }
+        return fail(&db, &diagnostics);
+    };
+    let plan = &plans[index];
+    match args.dump_after {
+        Some(PlanDump::Pop) => print_out(&crate::ir::pop::print(interner, &timed.pop)),
+        Some(PlanDump::Stn) => print_out(&crate::ir::stn::print(interner, &timed.pop, &timed.stn)),
+        Some(PlanDump::Schedule) => print_out(&schedule::print(interner, kb, &timed.pop, &timed.schedule)),
+        _ => {}
     }
-    let search = match args.search {
-        SearchArg::Paper => SearchKind::Paper,
-        SearchArg::Heuristic => SearchKind::Heuristic,
-    };
-    let options = Options {
-        search,
-        max_depth: args.max_depth,
-        budget: planner::Budget {
-            max_states: args.max_states,
-            deadline: args.timeout.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))),
-            max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
-            ..planner::Budget::default()
-        },
-    };
-    let mut progress = TerminalProgress {
-        started: Instant::now(),
-        enabled: std::io::stderr().is_terminal(),
-        shown: false,
-        drawn: None,
-    };
-    let outcome = planner::search(kb, interner, &mut task, &options, &mut progress);
-    if progress.shown {
-        eprint!("\r{:60}\r", "");
+    report(&db, &diagnostics, args.message_format, color);
+    if let Some(emit) = args.emit {
+        let text = match emit {
+            Emit::PopDot => render::dot::pop(interner, &timed.pop),
+            Emit::StnDot => render::dot::stn(interner, &timed.pop, &timed.stn),
+            Emit::GanttSvg => render::gantt::svg(interner, kb, &timed.pop, &timed.schedule),
+        };
+        match &args.output {
+            Some(path) => {
+                if let Err(error) = super::write_atomically(path, text.as_bytes()) {
+                    eprintln!("error: cannot write `{}`: {error}", path.display());
+                    return ExitCode::from(1);
+                }
+            }
+            None => print_out(&text),
+        }
+        if args.output.is_none() {
+            return ExitCode::SUCCESS;
+        }
     }
     let problem_name = interner.resolve(kb.problems[problem].name).to_string();
-    let search_name = match search {
-        SearchKind::Paper => "paper",
-        SearchKind::Heuristic => "heuristic",
+    let figures = Figures::of(&timed, stats.as_ref(), index, plans.len());
+    let text = match args.format {
+        OutputFormat::Text if args.schedule => schedule_text(interner, kb, &timed, &problem_name, &origin, &figures),
+        OutputFormat::Text => plan_text(interner, &mut task, plan, &problem_name, &origin, &figures, args.trace),
+        OutputFormat::Json => plan_json(kb, interner, plan, &timed, &problem_name, &origin, &figures),
     };
-    match outcome.result {
-        Ok(plan) => {
-            if cfg!(debug_assertions) {
-                plan::verify(kb, &plan)
-                    .unwrap_or_else(|e| panic!("internal compiler error: the plan verifier failed: {e}"));
-            }
-            report(&db, &diagnostics, args.message_format, color);
-            let text = match args.format {
-                OutputFormat::Text => {
-                    plan_text(interner, &mut task, &plan, &problem_name, search_name, &outcome.stats, args.trace)
-                }
-                OutputFormat::Json => plan_json(kb, interner, &plan, &problem_name, search_name, &outcome.stats),
-            };
-            let _ = std::io::stdout().lock().write_all(text.as_bytes());
-            ExitCode::SUCCESS
+    print_out(&text);
+    ExitCode::SUCCESS
+}
+
+fn print_out(text: &str) {
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+/// What the output says about the plan and the search.
+struct Figures {
+    makespan: i64,
+    /// The makespan if one action ran at a time, each taking its minimum duration.
+    sequential: i64,
+    stats: Option<Stats>,
+    /// Which of how many plans found was kept.
+    kept: (usize, usize),
+}
+
+impl Figures {
+    fn of(timed: &driver::Timed, stats: Option<&Stats>, index: usize, found: usize) -> Figures {
+        let sequential = timed.stn.durations.iter().flatten().map(|b| b.min).sum::<i64>();
+        Figures { makespan: timed.schedule.makespan, sequential, stats: stats.copied(), kept: (index, found) }
+    }
+
+    fn line(&self) -> String {
+        let speedup = if self.makespan > 0 { self.sequential as f64 / self.makespan as f64 } else { 1.0 };
+        let mut line = format!(
+            "makespan {} time units; one action at a time: {} ({speedup:.2}x)",
+            format_time(self.makespan),
+            format_time(self.sequential)
+        );
+        if self.kept.1 > 1 {
+            line.push_str(&format!("; plan {} of {} found", self.kept.0 + 1, self.kept.1));
         }
-        Err(failure) => {
-            diagnostics.push(failure_diagnostic(
-                kb,
-                interner,
-                &task,
-                &problem_name,
-                &failure,
-                &outcome.stats,
-                &options,
-            ));
-            report(&db, &diagnostics, args.message_format, color);
-            ExitCode::from(1)
+        if let Some(stats) = &self.stats {
+            line.push_str("; ");
+            line.push_str(&stats_line(stats));
         }
+        line
     }
 }
 
@@ -200,12 +376,8 @@ fn process_peak_bytes() -> Option<u64> {
 }
 
 fn stats_line(stats: &Stats) -> String {
-    let makespan = match stats.makespan {
-        Some(makespan) => format!("makespan {makespan} (achiever-based, before scheduling); "),
-        None => String::new(),
-    };
     format!(
-        "{makespan}expanded {} {}, generated {}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
+        "expanded {} {}, generated {}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
         if stats.expanded == 1 { "state" } else { "states" },
         stats.generated,
@@ -221,11 +393,11 @@ fn plan_text(
     task: &mut crate::ir::task::Task,
     plan: &Plan,
     problem: &str,
-    search: &str,
-    stats: &Stats,
+    origin: &str,
+    figures: &Figures,
     trace: bool,
 ) -> String {
-    let mut out = format!("% plan for {problem} ({search} search): {} snap actions\n", plan.steps.len());
+    let mut out = format!("% plan for {problem} ({origin}): {} snap actions\n", plan.steps.len());
     if trace {
         let no_vars = VarTable::default();
         let states = planner::replay(task, plan);
@@ -246,7 +418,22 @@ fn plan_text(
     } else {
         out.push_str(&plan::print(interner, plan));
     }
-    out.push_str(&format!("% {}\n", stats_line(stats)));
+    out.push_str(&format!("% {}\n", figures.line()));
+    out
+}
+
+fn schedule_text(
+    interner: &crate::intern::Interner,
+    kb: &Kb,
+    timed: &driver::Timed,
+    problem: &str,
+    origin: &str,
+    figures: &Figures,
+) -> String {
+    let actions = schedule::timed_actions(kb, &timed.pop, &timed.schedule).len();
+    let mut out = format!("% schedule for {problem} ({origin}): {actions} actions, earliest start times\n");
+    out.push_str(&schedule::print(interner, kb, &timed.pop, &timed.schedule));
+    out.push_str(&format!("% {}\n", figures.line()));
     out
 }
 
@@ -254,9 +441,10 @@ fn plan_json(
     kb: &Kb,
     interner: &crate::intern::Interner,
     plan: &Plan,
+    timed: &driver::Timed,
     problem: &str,
-    search: &str,
-    stats: &Stats,
+    origin: &str,
+    figures: &Figures,
 ) -> String {
     let no_vars = VarTable::default();
     let steps: Vec<serde_json::Value> = plan
@@ -270,23 +458,43 @@ fn plan_json(
                 "action": hir::term_to_string(interner, &step.name, &no_vars),
                 "snap": match action.snap { hir::Snap::Start => "start", hir::Snap::End => "end", hir::Snap::Instant => "instant" },
                 "durative_action": interner.resolve(action.base),
+                "achievers": timed.pop.achievers(i).iter().map(|a| match a {
+                    Achiever::Init => 0,
+                    Achiever::Step(j) => j + 1,
+                }).collect::<Vec<_>>(),
+                "time": timed.schedule.earliest[i] as f64 / UNITS as f64,
+                "latest": timed.schedule.latest[i] as f64 / UNITS as f64,
             })
         })
         .collect();
-    let value = serde_json::json!({
+    let schedule: Vec<serde_json::Value> = schedule::timed_actions(kb, &timed.pop, &timed.schedule)
+        .iter()
+        .map(|a| {
+            serde_json::json!({
+                "time": a.time as f64 / UNITS as f64,
+                "action": hir::term_to_string(interner, &a.name, &no_vars),
+                "duration": a.duration.map(|d| d as f64 / UNITS as f64),
+            })
+        })
+        .collect();
+    let mut value = serde_json::json!({
         "problem": problem,
-        "search": search,
+        "origin": origin,
         "steps": steps,
-        "stats": {
+        "schedule": schedule,
+        "makespan": figures.makespan as f64 / UNITS as f64,
+        "sequential": figures.sequential as f64 / UNITS as f64,
+    });
+    if let Some(stats) = &figures.stats {
+        value["stats"] = serde_json::json!({
             "expanded": stats.expanded,
             "generated": stats.generated,
             "evaluated": stats.evaluated,
             "seconds": stats.elapsed.as_secs_f64(),
             "stored_bytes": stats.peak_bytes,
             "process_peak_bytes": process_peak_bytes(),
-            "makespan": stats.makespan,
-        },
-    });
+        });
+    }
     format!("{value}\n")
 }
 

@@ -59,18 +59,35 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
         return ExitCode::from(1);
     }
     let program = planner::program_for(kb, problem);
-    let verdict = validate::validate(kb, &frontend.interner, &program, problem, &steps);
+    let timed = steps.first().is_some_and(|s| s.timing.is_some());
+    let verdict = if timed {
+        validate::validate_timed(kb, &frontend.interner, &program, problem, &steps)
+    } else {
+        validate::validate(kb, &frontend.interner, &program, problem, &steps)
+    };
     let problem_name = frontend.interner.resolve(kb.problems[problem].name).to_string();
     diagnostics.extend(verdict.diagnostics);
     report(&db, &diagnostics, args.message_format, color);
     if diagnostics.has_errors() {
         return ExitCode::from(1);
     }
-    let message = format!("the plan is valid: its {} steps reach the goal of `{problem_name}`", steps.len());
+    let message = if timed {
+        let makespan = steps.iter().filter_map(|s| s.timing.map(|(t, d)| t + d.unwrap_or(0))).max().unwrap_or(0);
+        format!(
+            "the timed plan is valid: its {} actions reach the goal of `{problem_name}` at {}",
+            steps.len(),
+            crate::ir::stn::format_time(makespan)
+        )
+    } else {
+        format!("the plan is valid: its {} steps reach the goal of `{problem_name}`", steps.len())
+    };
     match args.message_format {
         MessageFormat::Human => println!("{message}"),
         MessageFormat::Json => {
-            println!("{}", serde_json::json!({ "valid": true, "problem": problem_name, "steps": steps.len() }))
+            println!(
+                "{}",
+                serde_json::json!({ "valid": true, "timed": timed, "problem": problem_name, "steps": steps.len() })
+            )
         }
     }
     ExitCode::SUCCESS

@@ -126,12 +126,17 @@ codes! {
     CONDITION_ERROR = "E0308": "an OnKB goal failed with an error";
     INVALID_PLAN = "E0309": "a plan step that does not apply";
     BAD_PLAN_FILE = "E0310": "a plan file that cannot be read as steps";
+    // Temporal.
+    INCONSISTENT_STN = "E0401": "durations and orderings that no schedule satisfies";
+    BAD_DURATION_VALUE = "E0402": "a duration that cannot be used";
+    INVALID_SCHEDULE = "E0403": "a timed plan that does not execute";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";
     IGNORED_DIRECTIVE = "W0003": "directive ignored";
     MARKED_SINGLETON_REUSED = "W0004": "a `_`-prefixed variable used more than once";
     DISCONTIGUOUS = "W0005": "clauses of a predicate not together";
+    DEFAULT_DURATION = "W0006": "a durative action without a duration";
 }
 
 #[cfg(test)]

@@ -5,5 +5,8 @@
 
 pub mod hir;
 pub mod plan;
+pub mod pop;
+pub mod schedule;
+pub mod stn;
 pub mod task;
 pub mod unify;

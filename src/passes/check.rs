@@ -724,6 +724,7 @@ impl Checker<'_> {
             let ok = match bound {
                 Term::Int(i) => *i >= 0,
                 Term::Float(f) => *f >= 0.0,
+                Term::Atom(sym::INF) => which == "maximum",
                 _ => false,
             };
             if !ok {

@@ -33,6 +33,7 @@ use super::relaxed::{Helpful, Relaxation};
 use super::successors::{self, Applicable, Successors};
 use super::timing::{Durations, Timeline};
 use super::{Budget, Failure, Outcome, Progress, Stats, over_budget, plan_from};
+use crate::ir::plan::Plan;
 use crate::ir::task::{State, Task};
 
 struct Node {
@@ -40,9 +41,6 @@ struct Node {
     parent: u32,
     action: Option<Applicable>,
     depth: u32,
-    /// The achiever-based earliest time of `action`, and the time it occupies the plan until.
-    time: u32,
-    until: u32,
     /// The landmarks accepted on the path here; set when the node is expanded (a node can
     /// sit in both open lists, and is expanded once).
     accepted: Option<Accepted>,
@@ -50,7 +48,7 @@ struct Node {
 
 /// An open-list entry: landmark count plus h_FF, the prefix's makespan, h_FF, the time of
 /// the last action, depth, age.
-type Entry = Reverse<(u32, u32, u32, u32, u32, u32)>;
+type Entry = Reverse<(u32, i64, u32, i64, u32, u32)>;
 
 /// True if `action` is one of the relaxed plan's helpful actions, up to the unit of a resource
 /// it uses: the relaxed plan picks one arm for a step where any idle arm would do, and the
@@ -79,10 +77,16 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 }
 
 /// Greedy best-first search.
+///
+/// The search goes on after a goal state until `wanted` plans are found (each reaching a
+/// different goal state), the open lists are empty, or the budget runs out. With `temporal`,
+/// plan prefixes whose durations cannot be met are pruned ([`Timeline::consistent`]).
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
     budget: &Budget,
+    wanted: usize,
+    temporal: bool,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
@@ -90,19 +94,20 @@ pub fn search(
     {
         let (machine, cache) = successors.parts();
         if let Err(error) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
-            return Outcome { result: Err(Failure::Condition(error)), stats };
+            return Outcome::failed(Failure::Condition(error), stats);
         }
     }
     let init = task.init.clone();
     if successors::goal_reached(task, &init) {
-        return Outcome { result: Ok(plan_from(task, &[])), stats };
+        return Outcome::ended(vec![plan_from(task, &[])], Failure::Exhausted { depth_limit: None }, stats);
     }
+    let mut found: Vec<Plan> = Vec::new();
     let hasher = FxBuildHasher;
     let mut nodes: Vec<Node> = Vec::new();
     let mut seen: HashTable<u32> = HashTable::new();
     let mut bytes = init.footprint();
     seen.insert_unique(hasher.hash_one(&init), 0, |_| 0);
-    nodes.push(Node { state: init, parent: u32::MAX, action: None, depth: 0, time: 0, until: 0, accepted: None });
+    nodes.push(Node { state: init, parent: u32::MAX, action: None, depth: 0, accepted: None });
     let mut regular: BinaryHeap<Entry> = BinaryHeap::new();
     let mut preferred: BinaryHeap<Entry> = BinaryHeap::new();
     regular.push(Reverse((0, 0, 0, 0, 0, 0)));
@@ -118,13 +123,32 @@ pub fn search(
             _ => regular.pop().or_else(|| preferred.pop()),
         };
         let Some(Reverse((_, _, _, _, _, id))) = entry else {
-            return Outcome { result: Err(Failure::Exhausted { depth_limit: None }), stats };
+            return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
         };
         if nodes[id as usize].accepted.is_some() {
             continue; // already expanded, from the other list
         }
         if let Some(kind) = over_budget(budget, &stats, bytes) {
-            return Outcome { result: Err(Failure::Budget(kind)), stats };
+            return Outcome::ended(found, Failure::Budget(kind), stats);
+        }
+        // The timeline of the plan prefix that leads here, replayed from the root; a prefix
+        // that cannot be scheduled (an action overruns its maximum duration) is a dead end.
+        // (A later, schedulable path to the same state is then lost to duplicate detection:
+        // the price of checking time only on the states the search keeps.)
+        path_to(&nodes, id, &mut path);
+        timeline.clear();
+        for &n in &path {
+            let Some(action) = nodes[n as usize].action.clone() else { continue };
+            let (machine, _) = successors.parts();
+            match timeline.place(task, machine, &mut durations, &action) {
+                Ok(placement) => timeline.record(task, &action, placement),
+                Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
+            }
+        }
+        if temporal && !timeline.consistent() {
+            nodes[id as usize].accepted = Some(Box::default());
+            stats.unschedulable += 1;
+            continue;
         }
         let state = nodes[id as usize].state.clone();
         let parent_accepted = match nodes[id as usize].parent {
@@ -135,7 +159,7 @@ pub fn search(
             let (machine, cache) = successors.parts();
             match relaxation.evaluate_for_search(task, &state, machine, cache, parent_accepted.as_deref()) {
                 Ok(evaluated) => evaluated,
-                Err(error) => return Outcome { result: Err(Failure::Condition(error)), stats },
+                Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
             }
         };
         stats.evaluated += 1;
@@ -144,22 +168,13 @@ pub fn search(
         nodes[id as usize].accepted = Some(accepted);
         let Some(h_ff) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {
-            return Outcome { result: Err(Failure::Condition(error)), stats };
+            return Outcome::ended(found, Failure::Condition(error), stats);
         }
         stats.expanded += 1;
         if stats.expanded % 256 == 0 {
             progress.report(&stats);
         }
         let depth = nodes[id as usize].depth + 1;
-        // The timeline of the plan prefix that leads here, replayed from the root.
-        path_to(&nodes, id, &mut path);
-        timeline.clear();
-        for &n in &path {
-            let node = &nodes[n as usize];
-            if let Some(action) = &node.action {
-                timeline.record(task, action, node.time, node.until);
-            }
-        }
         for action in applicable.drain(..) {
             let child = successors::apply(task, &state, &action);
             stats.generated += 1;
@@ -167,26 +182,39 @@ pub fn search(
             if seen.find(hash, |&n| nodes[n as usize].state == child).is_some() {
                 continue;
             }
-            let (time, until) = {
+            let placement = {
                 let (machine, _) = successors.parts();
-                match timeline.earliest(task, machine, &mut durations, &action) {
-                    Ok(times) => times,
-                    Err(error) => return Outcome { result: Err(Failure::Condition(error)), stats },
+                match timeline.place(task, machine, &mut durations, &action) {
+                    Ok(placement) => placement,
+                    Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
                 }
             };
-            let makespan = timeline.makespan.max(until);
+            let (time, makespan) = (placement.time, timeline.makespan.max(placement.until));
             let helpful = in_relaxed_plan(task, &estimate.helpful, &action)
                 || relaxation.achieves_subgoal(task, &action, &estimate.subgoals);
             let goal = successors::goal_reached(task, &child);
             let child_id = nodes.len() as u32;
             bytes += child.footprint() + std::mem::size_of::<Node>();
             stats.peak_bytes = stats.peak_bytes.max(bytes);
-            nodes.push(Node { state: child, parent: id, action: Some(action), depth, time, until, accepted: None });
+            if goal && temporal {
+                // The last steps must fit their durations too.
+                let mut complete = timeline.clone();
+                complete.record(task, &action, placement);
+                if !complete.consistent() {
+                    stats.unschedulable += 1;
+                    continue;
+                }
+            }
+            nodes.push(Node { state: child, parent: id, action: Some(action), depth, accepted: None });
             seen.insert_unique(hash, child_id, |&n| hasher.hash_one(&nodes[n as usize].state));
             if goal {
                 path_to(&nodes, child_id, &mut path);
                 let actions: Vec<Applicable> = path.iter().filter_map(|&n| nodes[n as usize].action.clone()).collect();
-                return Outcome { result: Ok(plan_from(task, &actions)), stats };
+                found.push(plan_from(task, &actions));
+                if found.len() >= wanted {
+                    return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
+                }
+                continue; // a goal state is not expanded
             }
             let entry = Reverse((h_lm + h_ff, makespan, h_ff, time, depth, child_id));
             if helpful {

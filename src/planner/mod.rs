@@ -74,11 +74,14 @@ pub struct Options {
     pub max_depth: Option<u32>,
     /// Limits.
     pub budget: Budget,
+    /// How many different plans to find before stopping (at least one): the search goes on
+    /// after the first, within its budget, and reports the others as alternatives.
+    pub plans: usize,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default() }
+        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default(), plans: 1 }
     }
 }
 
@@ -98,8 +101,8 @@ pub struct Stats {
     pub elapsed: Duration,
     /// The most bytes of states stored at once.
     pub peak_bytes: usize,
-    /// The plan's makespan under achiever-based earliest times ([`timing`]), in time units.
-    pub makespan: Option<u32>,
+    /// Plan prefixes pruned because no schedule fits their durations.
+    pub unschedulable: u64,
 }
 
 /// Which budget ran out.
@@ -133,10 +136,28 @@ pub enum Failure {
 /// A search's result and figures.
 #[derive(Clone, Debug)]
 pub struct Outcome {
-    /// The plan, or why there is none.
+    /// The first plan found, or why there is none.
     pub result: Result<Plan, Failure>,
+    /// The other plans found, in the order found, when more than one was asked for.
+    pub alternatives: Vec<Plan>,
     /// What the search did.
     pub stats: Stats,
+}
+
+impl Outcome {
+    /// A search that ended with `found` plans (in order) or, with none, with `failure`.
+    pub(crate) fn ended(mut found: Vec<Plan>, failure: Failure, stats: Stats) -> Outcome {
+        if found.is_empty() {
+            return Outcome { result: Err(failure), alternatives: Vec::new(), stats };
+        }
+        let first = found.remove(0);
+        Outcome { result: Ok(first), alternatives: found, stats }
+    }
+
+    /// A search that failed before finding anything.
+    pub(crate) fn failed(failure: Failure, stats: Stats) -> Outcome {
+        Outcome { result: Err(failure), alternatives: Vec::new(), stats }
+    }
 }
 
 /// Receives progress reports during long searches.
@@ -175,7 +196,7 @@ pub fn search(
     let program = program_for(kb, task.problem);
     if let Some(diagnostic) = analysis::exclusive_goals(kb, task, interner) {
         let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
-        return Outcome { result: Err(Failure::Unsolvable(Box::new(diagnostic))), stats };
+        return Outcome::failed(Failure::Unsolvable(Box::new(diagnostic)), stats);
     }
     let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
     let init = task.init.clone();
@@ -187,7 +208,7 @@ pub fn search(
     match root {
         Err(error) => {
             let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
-            return Outcome { result: Err(Failure::Condition(error)), stats };
+            return Outcome::failed(Failure::Condition(error), stats);
         }
         Ok(estimate) if estimate.h_add.is_none() => {
             let explained = analysis::explain_unreachable(kb, task, &program, interner, options.budget.engine_steps);
@@ -196,22 +217,32 @@ pub fn search(
                 Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
                 None => Failure::Exhausted { depth_limit: None },
             };
-            return Outcome { result: Err(result), stats };
+            return Outcome::failed(result, stats);
         }
         Ok(_) => {}
     }
     let mut outcome = match options.search {
         SearchKind::Paper => {
             let limit = options.max_depth.or(task.max_depth).unwrap_or(DEFAULT_MAX_DEPTH);
-            paper::search(task, successors, limit, &options.budget, progress)
+            paper::search(task, successors, limit, &options.budget, options.plans.max(1), progress)
         }
-        SearchKind::Heuristic => best_first::search(task, successors, &options.budget, progress),
+        SearchKind::Heuristic => {
+            let wanted = options.plans.max(1);
+            let outcome = best_first::search(task, successors, &options.budget, wanted, true, progress);
+            if matches!(outcome.result, Err(Failure::Exhausted { .. })) && outcome.stats.unschedulable > 0 {
+                // Every plan the search could reach was pruned for its durations. Plan once
+                // more without the temporal check: the scheduler then rejects that plan with
+                // a diagnostic naming the constraints that cannot be met, which says far more
+                // than "no plan".
+                let successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
+                let mut retry = best_first::search(task, successors, &options.budget, wanted, false, progress);
+                retry.stats.unschedulable += outcome.stats.unschedulable;
+                retry
+            } else {
+                outcome
+            }
+        }
     };
-    if let Ok(plan) = &outcome.result {
-        let path = path_of(task, plan);
-        let mut machine = Machine::new(&program, options.budget.engine_steps);
-        outcome.stats.makespan = timing::makespan(task, &mut machine, &path).ok();
-    }
     outcome.stats.elapsed = started.elapsed();
     outcome
 }

@@ -19,6 +19,7 @@ use rustc_hash::FxHashSet;
 
 use super::successors::{self, Applicable, Successors};
 use super::{Budget, Failure, Outcome, Progress, Stats, over_budget, plan_from};
+use crate::ir::plan::Plan;
 use crate::ir::task::{State, Task};
 
 struct Frame {
@@ -27,32 +28,35 @@ struct Frame {
     next: usize,
 }
 
-/// Depth-first search to depth `limit`.
+/// Depth-first search to depth `limit`, until `wanted` plans are found (backtracking after
+/// each, as Prolog would on a `fail` after printing one).
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
     limit: u32,
     budget: &Budget,
+    wanted: usize,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
     let init = task.init.clone();
     if successors::goal_reached(task, &init) {
-        return Outcome { result: Ok(plan_from(task, &[])), stats };
+        return Outcome::ended(vec![plan_from(task, &[])], Failure::Exhausted { depth_limit: Some(limit) }, stats);
     }
+    let mut found: Vec<Plan> = Vec::new();
     let mut path: Vec<Applicable> = Vec::new();
     let mut on_path: FxHashSet<State> = FxHashSet::default();
     let mut bytes = init.footprint();
     on_path.insert(init.clone());
     let mut actions = Vec::new();
     if let Err(error) = successors.applicable(task, &init, &mut actions) {
-        return Outcome { result: Err(Failure::Condition(error)), stats };
+        return Outcome::failed(Failure::Condition(error), stats);
     }
     let mut stack = vec![Frame { state: init, actions, next: 0 }];
     stats.expanded = 1;
     loop {
         let Some(frame) = stack.last_mut() else {
-            return Outcome { result: Err(Failure::Exhausted { depth_limit: Some(limit) }), stats };
+            return Outcome::ended(found, Failure::Exhausted { depth_limit: Some(limit) }, stats);
         };
         let Some(action) = frame.actions.get(frame.next).cloned() else {
             let frame = stack.pop().expect("the stack is not empty here");
@@ -66,7 +70,12 @@ pub fn search(
         stats.generated += 1;
         if successors::goal_reached(task, &child) {
             path.push(action);
-            return Outcome { result: Ok(plan_from(task, &path)), stats };
+            found.push(plan_from(task, &path));
+            path.pop();
+            if found.len() >= wanted {
+                return Outcome::ended(found, Failure::Exhausted { depth_limit: Some(limit) }, stats);
+            }
+            continue;
         }
         if on_path.contains(&child) || stack.len() as u32 >= limit {
             // A state already on the path, or the depth limit: the paper backtracks.
@@ -74,11 +83,11 @@ pub fn search(
         }
         if let Some(kind) = over_budget(budget, &stats, bytes) {
             stats.peak_bytes = stats.peak_bytes.max(bytes);
-            return Outcome { result: Err(Failure::Budget(kind)), stats };
+            return Outcome::ended(found, Failure::Budget(kind), stats);
         }
         let mut actions = Vec::new();
         if let Err(error) = successors.applicable(task, &child, &mut actions) {
-            return Outcome { result: Err(Failure::Condition(error)), stats };
+            return Outcome::ended(found, Failure::Condition(error), stats);
         }
         stats.expanded += 1;
         if stats.expanded % 4096 == 0 {

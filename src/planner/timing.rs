@@ -1,45 +1,58 @@
-//! Achiever-based earliest times of snap actions, for the heuristic search's makespan cost.
+//! Times of the snap actions of a plan prefix, for the heuristic search: a makespan to prefer
+//! plans that keep several arms busy, and a check that the prefix can be scheduled at all.
 //!
-//! As a plan prefix grows one snap action at a time, each new action gets the earliest time it
-//! could happen if every action waited only for its achievers, as the paper's partial order
-//! does: the actions whose `add` made its Valid conditions true, the actions whose `del`
-//! removed a fact its Invalid conditions forbid, and, for an end, its start plus the action's
-//! minimum duration. The largest such time (with each start counted up to its earliest end) is
-//! the prefix's makespan. Threat orderings and maximum durations belong to the temporal passes;
-//! here the figure only steers the search towards plans that keep several arms busy.
+//! As a prefix grows one snap action at a time, each new action is *placed*: its achievers are
+//! the actions whose `add` made its Valid conditions true and those whose `del` removed a fact
+//! its Invalid conditions forbid (the links of the paper's partial order), and, for an end,
+//! its start; its earliest time is the latest achiever's time plus a separation (a thousandth,
+//! none from an end to a start), and an end comes at least its minimum duration after its
+//! start. Times are in STN units (thousandths of a KB time unit), as in `ir::stn`.
+//!
+//! Maximum durations are what makes a prefix unschedulable: an arm that holds a block in the
+//! air waiting for its destination overruns the move's maximum, and delaying the move's start
+//! does not help when other actions needed it early. [`Timeline::consistent`] runs the
+//! prefix's difference constraints (achiever links, minimum and maximum durations) through a
+//! Bellman-Ford relaxation and finds out; the search prunes such prefixes rather than hand
+//! the scheduler a plan it must reject. Threat orderings are left to the temporal passes.
 //!
 //! Durations come from the KB's `duration(Action, Min, Max)`, proven by the resolution engine
-//! and remembered per action instance; an action without one takes [`DEFAULT_DURATION`].
+//! and remembered per action instance; an action without one takes the documented default.
 
 use rustc_hash::FxHashMap;
 
 use super::successors::{self, Applicable, ConditionError, const_to_cell};
 use crate::engine::{Cell, Machine, Next};
 use crate::intern::sym;
-use crate::ir::hir::EffectKind;
-use crate::ir::hir::Snap;
+use crate::ir::hir::{EffectKind, Snap};
+use crate::ir::stn::{DEFAULT_DURATION, EPSILON, UNITS};
 use crate::ir::task::{ConstId, Consts, FactId, Task};
 
-/// The duration of a durative action that has no `duration/3`, in time units.
-pub const DEFAULT_DURATION: u32 = 1;
-
-/// Minimum durations of durative action instances, proven once each.
+/// Bounds of durative action instances, proven once each.
 #[derive(Default)]
 pub struct Durations {
-    cache: FxHashMap<ConstId, u32>,
+    cache: FxHashMap<ConstId, (i64, i64)>,
+}
+
+fn to_units(cell: Cell) -> Option<i64> {
+    match cell {
+        Cell::Atom(sym::INF) => Some(i64::MAX),
+        Cell::Int(i) => i.checked_mul(UNITS),
+        Cell::Float(f) if f.is_finite() && f.abs() < 1e12 => Some((f * UNITS as f64).round() as i64),
+        _ => None,
+    }
 }
 
 impl Durations {
-    /// The minimum duration of the running instance `base(args)` started by a schema of index
-    /// `schema`: the `Min` of the first solution of `duration(base(args), Min, _)`, rounded up
-    /// to a whole time unit, or [`DEFAULT_DURATION`] when there is none or it is not a number.
-    pub fn min(
+    /// The bounds (in STN units) of the running instance `base(args)` started by the schema of
+    /// index `schema`: the first solution of `duration(base(args), Min, Max)`, or the default
+    /// when there is none or it is not a pair of numbers; a maximum of `inf` is `i64::MAX`.
+    pub fn bounds(
         &mut self,
         consts: &Consts,
         machine: &mut Machine<'_>,
         schema: usize,
         instance: ConstId,
-    ) -> Result<u32, ConditionError> {
+    ) -> Result<(i64, i64), ConditionError> {
         if let Some(&known) = self.cache.get(&instance) {
             return Ok(known);
         }
@@ -48,33 +61,57 @@ impl Durations {
         let min = machine.new_var();
         let max = machine.new_var();
         let goal = machine.new_compound(sym::DURATION, &[action, min, max]);
+        let default = (DEFAULT_DURATION * UNITS, DEFAULT_DURATION * UNITS);
         let mut found = None;
         machine
             .solve(goal, |m| {
-                found = Some(match m.deref(min) {
-                    Cell::Int(i) => u32::try_from(i.max(0)).unwrap_or(u32::MAX),
-                    Cell::Float(f) if f.is_finite() => f.max(0.0).ceil().min(u32::MAX as f64) as u32,
-                    _ => DEFAULT_DURATION,
+                found = Some(match (to_units(m.deref(min)), to_units(m.deref(max))) {
+                    (Some(min), Some(max)) if min < i64::MAX => (min.max(0), max),
+                    _ => default,
                 });
                 Next::Stop
             })
             .map_err(|error| ConditionError { schema, error })?;
-        let duration = found.unwrap_or(DEFAULT_DURATION);
-        self.cache.insert(instance, duration);
-        Ok(duration)
+        let bounds = found.unwrap_or(default);
+        self.cache.insert(instance, bounds);
+        Ok(bounds)
     }
 }
 
-/// When the facts of a plan prefix were last added and deleted, and when its running actions
-/// started. Facts of the initial state were added at time 0.
-#[derive(Default)]
+/// Where a new action goes in the timeline.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Placement {
+    /// Its earliest time.
+    pub time: i64,
+    /// The time it occupies the plan until: its earliest end, for a start.
+    pub until: i64,
+    /// The earlier steps it waits for, with the separation from each.
+    achievers: Vec<(usize, i64)>,
+    /// For an end: its start step and the action's bounds.
+    end_of: Option<(usize, i64, i64)>,
+    /// For a start: the instance it begins.
+    starts: Option<ConstId>,
+}
+
+/// One recorded step.
+#[derive(Clone, Debug)]
+struct Placed {
+    snap: Snap,
+    time: i64,
+    achievers: Vec<(usize, i64)>,
+    end_of: Option<(usize, i64, i64)>,
+}
+
+/// The steps of a plan prefix and, for each fact, the last step that added or deleted it.
+#[derive(Clone, Default)]
 pub struct Timeline {
-    added: FxHashMap<FactId, u32>,
-    /// Per predicate, the facts deleted and when (the latest deletion of each).
-    deleted: FxHashMap<u32, Vec<(FactId, u32)>>,
-    started: FxHashMap<ConstId, u32>,
+    added: FxHashMap<FactId, usize>,
+    /// Per predicate, the facts deleted and by which step (the latest deletion of each).
+    deleted: FxHashMap<u32, Vec<(FactId, usize)>>,
+    started: FxHashMap<ConstId, usize>,
+    steps: Vec<Placed>,
     /// The prefix's makespan so far.
-    pub makespan: u32,
+    pub makespan: i64,
 }
 
 impl Timeline {
@@ -83,62 +120,73 @@ impl Timeline {
         self.added.clear();
         self.deleted.clear();
         self.started.clear();
+        self.steps.clear();
         self.makespan = 0;
     }
 
-    /// The earliest time `action` can happen after the prefix recorded so far, and the time
-    /// it occupies the plan until (its earliest end, for a start).
-    pub fn earliest(
+    /// The least time between step `from` and a new action of kind `to`: none from an end to
+    /// a start (at equal times ends happen first), a thousandth otherwise.
+    fn separation(&self, from: usize, to: Snap) -> i64 {
+        if self.steps[from].snap == Snap::End && to == Snap::Start { 0 } else { EPSILON }
+    }
+
+    /// Where `action` goes after the prefix recorded so far.
+    pub fn place(
         &self,
         task: &mut Task,
         machine: &mut Machine<'_>,
         durations: &mut Durations,
         action: &Applicable,
-    ) -> Result<(u32, u32), ConditionError> {
+    ) -> Result<Placement, ConditionError> {
         let Task { consts, facts, schemas, .. } = task;
         let schema = &schemas[action.schema];
-        let mut time = 0u32;
+        let mut achievers: Vec<(usize, i64)> = Vec::new();
         for literal in schema.valid.iter() {
             let args: Option<Vec<ConstId>> =
                 literal.args.iter().map(|a| successors::instantiate(a, consts, &action.bindings)).collect();
-            if let Some(fact) = args.and_then(|args| facts.find(literal.pred, &args)) {
-                time = time.max(self.added.get(&fact).copied().unwrap_or(0));
+            if let Some(step) = args.and_then(|args| facts.find(literal.pred, &args)).and_then(|f| self.added.get(&f)) {
+                achievers.push((*step, self.separation(*step, schema.snap)));
             }
         }
         let mut scratch = action.bindings.to_vec();
         let mut trail = Vec::new();
         for literal in schema.invalid.iter() {
-            for &(fact, deleted_at) in self.deleted.get(&literal.pred.0).map(Vec::as_slice).unwrap_or(&[]) {
-                if deleted_at > time
-                    && successors::match_literal(literal, fact, consts, facts, &mut scratch, &mut trail)
-                {
-                    time = deleted_at;
+            for &(fact, step) in self.deleted.get(&literal.pred.0).map(Vec::as_slice).unwrap_or(&[]) {
+                if successors::match_literal(literal, fact, consts, facts, &mut scratch, &mut trail) {
+                    achievers.push((step, self.separation(step, schema.snap)));
                 }
                 successors::undo(&mut scratch, &mut trail, 0);
             }
         }
+        let mut time = achievers.iter().map(|&(step, sep)| self.steps[step].time + sep).max().unwrap_or(0);
         let mut until = time;
+        let mut end_of = None;
+        let mut starts = None;
         match schema.snap {
             Snap::End => {
-                if let Some(instance) = action.ends {
-                    let start = self.started.get(&instance).copied().unwrap_or(0);
-                    let min = durations.min(consts, machine, action.schema, instance)?;
-                    time = time.max(start.saturating_add(min));
+                if let Some(&start) = action.ends.as_ref().and_then(|instance| self.started.get(instance)) {
+                    let instance = action.ends.expect("checked above");
+                    let (min, max) = durations.bounds(consts, machine, action.schema, instance)?;
+                    time = time.max(self.steps[start].time + min.max(EPSILON));
                     until = time;
+                    end_of = Some((start, min.max(EPSILON), max));
                 }
             }
             Snap::Start => {
                 if let Some(instance) = successors::running_instance(schema, consts, &action.bindings) {
-                    until = time.saturating_add(durations.min(consts, machine, action.schema, instance)?);
+                    let (min, _) = durations.bounds(consts, machine, action.schema, instance)?;
+                    until = time.saturating_add(min.max(EPSILON));
+                    starts = Some(instance);
                 }
             }
             Snap::Instant => {}
         }
-        Ok((time, until))
+        Ok(Placement { time, until, achievers, end_of, starts })
     }
 
-    /// Records `action`, applied at `time` (occupying the plan until `until`).
-    pub fn record(&mut self, task: &mut Task, action: &Applicable, time: u32, until: u32) {
+    /// Records `action`, placed at `placement`, as the next step.
+    pub fn record(&mut self, task: &mut Task, action: &Applicable, placement: Placement) {
+        let index = self.steps.len();
         let Task { consts, facts, schemas, .. } = task;
         let schema = &schemas[action.schema];
         for (kind, literal) in schema.effects.iter() {
@@ -147,41 +195,68 @@ impl Timeline {
             let Some(fact) = args.and_then(|args| facts.find(literal.pred, &args)) else { continue };
             match kind {
                 EffectKind::Add => {
-                    self.added.insert(fact, time);
+                    self.added.insert(fact, index);
                 }
                 EffectKind::Del => {
                     let list = self.deleted.entry(literal.pred.0).or_default();
                     match list.iter_mut().find(|(f, _)| *f == fact) {
-                        Some(entry) => entry.1 = time,
-                        None => list.push((fact, time)),
+                        Some(entry) => entry.1 = index,
+                        None => list.push((fact, index)),
                     }
                 }
             }
         }
-        match schema.snap {
-            Snap::Start => {
-                if let Some(instance) = successors::running_instance(schema, consts, &action.bindings) {
-                    self.started.insert(instance, time);
-                }
-            }
-            Snap::End => {
-                if let Some(instance) = action.ends {
-                    self.started.remove(&instance);
-                }
-            }
-            Snap::Instant => {}
+        if let Some(instance) = placement.starts {
+            self.started.insert(instance, index);
         }
-        self.makespan = self.makespan.max(until);
+        if let Some(instance) = action.ends {
+            self.started.remove(&instance);
+        }
+        self.makespan = self.makespan.max(placement.until);
+        self.steps.push(Placed {
+            snap: schema.snap,
+            time: placement.time,
+            achievers: placement.achievers,
+            end_of: placement.end_of,
+        });
     }
-}
 
-/// The makespan of a whole plan under achiever-based earliest times (no threat orderings).
-pub fn makespan(task: &mut Task, machine: &mut Machine<'_>, path: &[Applicable]) -> Result<u32, ConditionError> {
-    let mut durations = Durations::default();
-    let mut timeline = Timeline::default();
-    for action in path {
-        let (time, until) = timeline.earliest(task, machine, &mut durations, action)?;
-        timeline.record(task, action, time, until);
+    /// True if the prefix can be scheduled: the earliest times that respect every achiever
+    /// link and every minimum duration also respect every maximum duration, once starts that
+    /// overrun are moved later (a longest-path relaxation, which fails exactly when a cycle of
+    /// constraints is positive).
+    pub fn consistent(&self) -> bool {
+        let n = self.steps.len();
+        let mut time: Vec<i64> = self.steps.iter().map(|s| s.time).collect();
+        // Forward edges (a step after its achievers) in plan order; backward edges (a start
+        // no earlier than its end minus the maximum) only where an end overruns.
+        for _round in 0..=n {
+            let mut changed = false;
+            for (i, step) in self.steps.iter().enumerate() {
+                let mut t = time[i];
+                for &(j, sep) in &step.achievers {
+                    t = t.max(time[j] + sep);
+                }
+                if let Some((start, min, _)) = step.end_of {
+                    t = t.max(time[start] + min);
+                }
+                if t != time[i] {
+                    time[i] = t;
+                    changed = true;
+                }
+            }
+            for (i, step) in self.steps.iter().enumerate() {
+                if let Some((start, _, max)) = step.end_of
+                    && time[i].saturating_sub(time[start]) > max
+                {
+                    time[start] = time[i] - max;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return true;
+            }
+        }
+        false
     }
-    Ok(timeline.makespan)
 }

@@ -1,0 +1,203 @@
+//! The simple temporal network (STN): a time point per snap action of a partial-order plan,
+//! plus the origin, and difference constraints between them, as a distance graph on petgraph.
+//!
+//! An edge `u -> v` of weight `w` says `t(v) - t(u) <= w`. Times are integers, in thousandths
+//! of the KB's time unit ([`UNITS`]): floating-point weights make the zero-weight loops of
+//! simultaneous starts and ends look like negative cycles, and a thousandth is the separation
+//! that keeps ordered snap actions apart (the `epsilon` of PDDL 2.1 plans).
+//!
+//! Every edge remembers why it is there ([`EdgeKind`]), so a negative cycle can be reported
+//! with a label on each constraint that closes it.
+
+use std::fmt::Write;
+
+use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
+use petgraph::visit::EdgeRef;
+
+use crate::intern::Interner;
+use crate::ir::hir::{self, VarTable};
+use crate::ir::pop::{Pop, Reason};
+use crate::source::Span;
+
+/// Time points per unit of KB time: STN times are thousandths.
+pub const UNITS: i64 = 1000;
+
+/// The duration of a durative action without `duration/3`, in KB time units, both bounds.
+pub const DEFAULT_DURATION: i64 = 1;
+
+/// The least separation, in STN time, between two ordered snap actions, except an end
+/// followed by a start (at equal times ends happen first).
+pub const EPSILON: i64 = 1;
+
+/// A time point: a step of the plan, or the origin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimePoint {
+    /// Time zero: the plan starts here.
+    Origin,
+    /// The snap action at this index of the plan.
+    Step(usize),
+}
+
+/// Where a durative action's bounds came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DurationSource {
+    /// A `duration/3` clause (the first whose head matches the action).
+    Clause(Span),
+    /// No clause: [`DEFAULT_DURATION`].
+    Default,
+}
+
+/// Why an edge is there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeKind {
+    /// Step `before` must happen before step `after` (an ordering of the partial-order plan).
+    Precedence {
+        /// The earlier step.
+        before: usize,
+        /// The later step.
+        after: usize,
+        /// The partial-order plan's reason.
+        reason: Reason,
+    },
+    /// The end of the action started at `start` comes at least its minimum duration later.
+    MinDuration {
+        /// The start step.
+        start: usize,
+        /// Where the bound comes from.
+        source: DurationSource,
+    },
+    /// The end of the action started at `start` comes at most its maximum duration later.
+    MaxDuration {
+        /// The start step.
+        start: usize,
+        /// Where the bound comes from.
+        source: DurationSource,
+    },
+    /// Nothing happens before the origin.
+    AfterOrigin,
+}
+
+/// An edge of the distance graph.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Edge {
+    /// `t(target) - t(source) <= weight`.
+    pub weight: i64,
+    /// Why.
+    pub kind: EdgeKind,
+}
+
+/// A durative action's bounds, in STN time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Bounds {
+    /// Minimum of end minus start.
+    pub min: i64,
+    /// Maximum of end minus start; `None` for `inf` (no upper bound).
+    pub max: Option<i64>,
+    /// Where they come from.
+    pub source: DurationSource,
+}
+
+/// A simple temporal network over the steps of a partial-order plan.
+#[derive(Clone, Debug)]
+pub struct Stn {
+    /// The distance graph.
+    pub graph: DiGraph<TimePoint, Edge>,
+    /// The origin's node.
+    pub origin: NodeIndex,
+    /// Each step's node, by plan index.
+    pub nodes: Vec<NodeIndex>,
+    /// For each start step, its action's bounds.
+    pub durations: Vec<Option<Bounds>>,
+}
+
+impl Stn {
+    /// The number of time points, the origin included.
+    pub fn len(&self) -> usize {
+        self.graph.node_count()
+    }
+
+    /// True if the network has no time point but the origin.
+    pub fn is_empty(&self) -> bool {
+        self.graph.node_count() <= 1
+    }
+
+    /// The edge's endpoints.
+    pub fn endpoints(&self, edge: EdgeIndex) -> (TimePoint, TimePoint) {
+        let (a, b) = self.graph.edge_endpoints(edge).expect("an edge of this graph");
+        (self.graph[a], self.graph[b])
+    }
+}
+
+/// Formats STN time as KB time with three decimals: `1500` is `1.500`.
+pub fn format_time(t: i64) -> String {
+    let sign = if t < 0 { "-" } else { "" };
+    let t = t.unsigned_abs();
+    format!("{sign}{}.{:03}", t / UNITS as u64, t % UNITS as u64)
+}
+
+/// The text form (`--dump-after stn`): each constraint as a difference bound.
+pub fn print(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
+    let mut out = String::new();
+    let no_vars = VarTable::default();
+    let name = |p: TimePoint| match p {
+        TimePoint::Origin => "origin".to_string(),
+        TimePoint::Step(i) => format!("a{}", i + 1),
+    };
+    let _ = writeln!(
+        out,
+        "% STN: {} time points, {} constraints (times in thousandths)",
+        stn.len(),
+        stn.graph.edge_count()
+    );
+    for (i, step) in pop.steps.iter().enumerate() {
+        let _ = write!(out, "a{:<3} {}", i + 1, hir::term_to_string(interner, &step.name, &no_vars));
+        if let Some(Some(bounds)) = stn.durations.get(i) {
+            let source = match bounds.source {
+                DurationSource::Clause(_) => "duration/3",
+                DurationSource::Default => "default",
+            };
+            let max = bounds.max.map_or("inf".to_string(), format_time);
+            let _ = write!(out, "  duration [{}, {max}] ({source})", format_time(bounds.min));
+        }
+        out.push('\n');
+    }
+    for edge in stn.graph.edge_references() {
+        let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
+        if edge.weight().kind == EdgeKind::AfterOrigin {
+            continue;
+        }
+        let _ = writeln!(out, "{} - {} <= {}", name(to), name(from), edge.weight().weight);
+    }
+    out
+}
+
+/// Checks the invariants: one node per step plus the origin, every edge between existing
+/// points and consistent with its kind, durations only on starts. A failure is a compiler bug.
+pub fn verify(pop: &Pop, stn: &Stn) -> Result<(), String> {
+    if stn.nodes.len() != pop.steps.len() || stn.len() != pop.steps.len() + 1 {
+        return Err(format!("{} nodes for {} steps", stn.len(), pop.steps.len()));
+    }
+    if stn.graph[stn.origin] != TimePoint::Origin {
+        return Err("the origin node is not the origin".to_string());
+    }
+    for (i, &node) in stn.nodes.iter().enumerate() {
+        if stn.graph[node] != TimePoint::Step(i) {
+            return Err(format!("node of step {} is {:?}", i + 1, stn.graph[node]));
+        }
+    }
+    for edge in stn.graph.edge_references() {
+        let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
+        let ok = match edge.weight().kind {
+            EdgeKind::Precedence { before, after, .. } => {
+                from == TimePoint::Step(after) && to == TimePoint::Step(before) && edge.weight().weight <= 0
+            }
+            EdgeKind::MinDuration { start, .. } => to == TimePoint::Step(start),
+            EdgeKind::MaxDuration { start, .. } => from == TimePoint::Step(start),
+            EdgeKind::AfterOrigin => to == TimePoint::Origin && edge.weight().weight == 0,
+        };
+        if !ok {
+            return Err(format!("edge {from:?} -> {to:?} does not match its kind {:?}", edge.weight().kind));
+        }
+    }
+    Ok(())
+}

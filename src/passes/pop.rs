@@ -1,0 +1,292 @@
+//! Pass `pop`: a total-order plan becomes a partial-order plan ([`Pop`]).
+//!
+//! The plan is replayed on ground facts (the KB semantics: effects in list order) while a
+//! history of which step added and deleted each fact is kept; the conditions of every step
+//! are then matched against that history:
+//!
+//! - a Valid literal's candidates are the earlier steps that add its fact (and the initial
+//!   state if the fact is there); the last of them before the step is its achiever;
+//! - an Invalid literal's candidates are the earlier steps that delete a fact it forbids; the
+//!   step must follow the last deletion of *every* such fact (the paper keeps only the last
+//!   candidate, which is not enough when several facts were removed), so each of those
+//!   deletions is ordered before it;
+//! - threats: a step that deletes a fact a link protects is ordered before the link's
+//!   producer or after its consumer, as the total order has it; a step that adds a fact an
+//!   Invalid literal forbids is ordered after that literal's step, or before the deletion that
+//!   removes the fact again;
+//! - each end follows its start; the goal literals are matched against the final state and
+//!   protected the same way.
+//!
+//! The plan must be valid (the search's plans are; plan files go through `validate` first).
+
+use rustc_hash::FxHashMap;
+
+use crate::intern::Interner;
+use crate::ir::hir::{self, EffectKind, Kb, Snap, Term, VarId, VarTable};
+use crate::ir::plan::Plan;
+use crate::ir::pop::{Achiever, Condition, ConditionKind, Ordering, Pop, PopStep, Reason};
+use crate::ir::unify::unifiable;
+
+/// A term with the step's bindings put in; variables without a value stay.
+fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
+    match term {
+        Term::Var(v) => match bindings.get(v.0 as usize).cloned().flatten() {
+            Some(value) => value,
+            None => term.clone(),
+        },
+        Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| instantiate(a, bindings)).collect()),
+        other => other.clone(),
+    }
+}
+
+/// What happened to one ground fact along the plan.
+#[derive(Default)]
+struct History {
+    term: Option<Term>,
+    initially: bool,
+    /// Steps that add it, in plan order.
+    adds: Vec<usize>,
+    /// Steps that delete it (while it holds), in plan order.
+    dels: Vec<usize>,
+}
+
+struct Builder<'a> {
+    interner: &'a Interner,
+    facts: FxHashMap<String, History>,
+    /// Fact keys by predicate name and arity, in first-seen order (for Invalid patterns).
+    by_pred: FxHashMap<(crate::intern::Symbol, usize), Vec<String>>,
+    orderings: Vec<Ordering>,
+}
+
+impl Builder<'_> {
+    fn key(&self, term: &Term) -> String {
+        hir::term_to_string(self.interner, term, &VarTable::default())
+    }
+
+    fn history(&mut self, term: &Term) -> &mut History {
+        let key = self.key(term);
+        if !self.facts.contains_key(&key) {
+            if let Some((name, arity)) = term.callable() {
+                self.by_pred.entry((name, arity)).or_default().push(key.clone());
+            }
+            self.facts.insert(key.clone(), History { term: Some(term.clone()), ..History::default() });
+        }
+        self.facts.get_mut(&key).expect("inserted above")
+    }
+
+    fn order(&mut self, before: usize, after: usize, reason: Reason) {
+        if before < after {
+            self.orderings.push(Ordering { before, after, reason });
+        }
+    }
+
+    /// The last step before `at` (exclusive) that adds the fact, else `Init` if it holds
+    /// initially; and every candidate.
+    fn establishers(&self, key: &str, at: usize) -> (Vec<Achiever>, Achiever) {
+        let Some(history) = self.facts.get(key) else { return (Vec::new(), Achiever::Init) };
+        let mut candidates: Vec<Achiever> = Vec::new();
+        if history.initially {
+            candidates.push(Achiever::Init);
+        }
+        candidates.extend(history.adds.iter().filter(|&&j| j < at).map(|&j| Achiever::Step(j)));
+        let last = candidates.last().copied().unwrap_or(Achiever::Init);
+        (candidates, last)
+    }
+
+    /// Orders the deleters of `key` around a link from `last` to consumer `at` (`n` for the
+    /// goal), condition `condition`.
+    fn protect(&mut self, key: &str, last: Achiever, at: usize, consumer: usize, condition: usize) {
+        let deleters: Vec<usize> = self.facts.get(key).map(|h| h.dels.clone()).unwrap_or_default();
+        let reason = Reason::Threat { consumer, condition };
+        for d in deleters {
+            if d == at {
+                continue; // a step may consume the fact it needs
+            }
+            match last {
+                Achiever::Step(j) if d < j => self.order(d, j, reason),
+                _ if d > at => self.order(at, d, reason),
+                _ => {}
+            }
+        }
+    }
+}
+
+/// Builds the partial-order plan of `plan`, which must be valid for its problem.
+pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
+    let problem = &kb.problems[plan.problem];
+    let mut builder =
+        Builder { interner, facts: FxHashMap::default(), by_pred: FxHashMap::default(), orderings: Vec::new() };
+    let mut state: FxHashMap<String, Term> = FxHashMap::default();
+    for literal in &problem.init {
+        let key = builder.key(&literal.term);
+        builder.history(&literal.term).initially = true;
+        state.insert(key, literal.term.clone());
+    }
+    // Replay, recording every change.
+    for (i, step) in plan.steps.iter().enumerate() {
+        for effect in &kb.actions[step.action].effects {
+            let fact = instantiate(&effect.literal.term, &step.bindings);
+            let key = builder.key(&fact);
+            match effect.kind {
+                EffectKind::Add => {
+                    builder.history(&fact).adds.push(i);
+                    state.insert(key, fact);
+                }
+                EffectKind::Del => {
+                    if state.remove(&key).is_some() {
+                        builder.history(&fact).dels.push(i);
+                    }
+                }
+            }
+        }
+    }
+    // Starts, by the running instance they begin: each end takes the latest open one.
+    let mut open: FxHashMap<String, Vec<usize>> = FxHashMap::default();
+    let mut steps: Vec<PopStep> = Vec::with_capacity(plan.steps.len());
+    for (i, step) in plan.steps.iter().enumerate() {
+        let action = &kb.actions[step.action];
+        let running = match &step.name {
+            Term::Compound(_, args) => Term::Compound(action.base, args.clone()),
+            _ => Term::Atom(action.base),
+        };
+        let start = match action.snap {
+            Snap::Start => {
+                open.entry(builder.key(&running)).or_default().push(i);
+                None
+            }
+            Snap::End => open.get_mut(&builder.key(&running)).and_then(Vec::pop),
+            Snap::Instant => None,
+        };
+        if let Some(s) = start {
+            builder.order(s, i, Reason::StartEnd);
+        }
+        let mut conditions = Vec::new();
+        for literal in &action.valid {
+            let fact = instantiate(&literal.term, &step.bindings);
+            let key = builder.key(&fact);
+            let (candidates, last) = builder.establishers(&key, i);
+            let index = conditions.len();
+            if let Achiever::Step(j) = last {
+                builder.order(j, i, Reason::Achiever { condition: index });
+            }
+            builder.protect(&key, last, i, i, index);
+            conditions.push(Condition {
+                kind: ConditionKind::Valid,
+                literal: fact,
+                vars: VarTable::default(),
+                span: literal.span,
+                candidates,
+                last,
+            });
+        }
+        for literal in &action.invalid {
+            let pattern = instantiate(&literal.term, &step.bindings);
+            let index = conditions.len();
+            let keys: Vec<String> = match pattern.callable() {
+                Some((name, arity)) => builder.by_pred.get(&(name, arity)).cloned().unwrap_or_default(),
+                None => Vec::new(),
+            };
+            let mut candidates = Vec::new();
+            for key in keys {
+                let history = &builder.facts[&key];
+                let Some(fact) = history.term.clone() else { continue };
+                if !unifiable(&pattern, &fact) {
+                    continue;
+                }
+                let (adds, dels, initially) = (history.adds.clone(), history.dels.clone(), history.initially);
+                let reason = Reason::Threat { consumer: i, condition: index };
+                // Absent at `i`: its last deletion before `i`, if it ever held, comes first.
+                let ever_before = initially || adds.iter().any(|&a| a < i);
+                if let Some(&d) = dels.iter().rfind(|&&d| d < i)
+                    && ever_before
+                {
+                    candidates.push(Achiever::Step(d));
+                    builder.order(d, i, Reason::Achiever { condition: index });
+                }
+                for a in adds {
+                    if a > i {
+                        builder.order(i, a, reason);
+                    } else if let Some(&d) = dels.iter().find(|&&d| d > a && d < i) {
+                        builder.order(a, d, reason);
+                    }
+                }
+            }
+            candidates.sort();
+            candidates.dedup();
+            let last = candidates.last().copied().unwrap_or(Achiever::Init);
+            conditions.push(Condition {
+                kind: ConditionKind::Invalid,
+                literal: pattern,
+                vars: action.vars.clone(),
+                span: literal.span,
+                candidates,
+                last,
+            });
+        }
+        steps.push(PopStep { action: step.action, name: step.name.clone(), snap: action.snap, start, conditions });
+    }
+    // The goal, matched against the final state.
+    let n = plan.steps.len();
+    let mut goal = Vec::new();
+    let finals: Vec<Term> = state.into_values().collect();
+    let matched = match_goal(&problem.goal, &finals, &mut vec![None; problem.vars.len()]);
+    for (g, literal) in problem.goal.iter().enumerate() {
+        let fact = matched.as_ref().map_or_else(|| literal.term.clone(), |m| instantiate(&literal.term, m));
+        let key = builder.key(&fact);
+        let (candidates, last) = builder.establishers(&key, n);
+        builder.protect(&key, last, n, usize::MAX, g);
+        goal.push(Condition {
+            kind: ConditionKind::Goal,
+            literal: fact,
+            vars: problem.vars.clone(),
+            span: literal.span,
+            candidates,
+            last,
+        });
+    }
+    let mut orderings = builder.orderings;
+    // One ordering per pair, with its strongest reason: an achiever link, then a start and its
+    // end, then a threat.
+    let rank = |reason: &Reason| match reason {
+        Reason::Achiever { .. } => 0,
+        Reason::StartEnd => 1,
+        Reason::Threat { .. } => 2,
+    };
+    orderings.sort_by_key(|o| (o.after, o.before, rank(&o.reason)));
+    orderings.dedup_by_key(|o| (o.after, o.before));
+    Pop { problem: plan.problem, steps, goal, orderings }
+}
+
+/// Values for the goal's variables under which every goal literal is a fact of `facts`.
+fn match_goal(goal: &[hir::Literal], facts: &[Term], bindings: &mut [Option<Term>]) -> Option<Vec<Option<Term>>> {
+    let Some((first, rest)) = goal.split_first() else { return Some(bindings.to_vec()) };
+    for fact in facts {
+        let mut attempt = bindings.to_vec();
+        if bind(&first.term, fact, &mut attempt)
+            && let Some(found) = match_goal(rest, facts, &mut attempt)
+        {
+            return Some(found);
+        }
+    }
+    None
+}
+
+/// Matches a pattern against a ground term, extending `bindings`.
+fn bind(pattern: &Term, ground: &Term, bindings: &mut [Option<Term>]) -> bool {
+    match pattern {
+        Term::Var(VarId(v)) => match bindings[*v as usize].clone() {
+            Some(bound) => &bound == ground,
+            None => {
+                bindings[*v as usize] = Some(ground.clone());
+                true
+            }
+        },
+        Term::Compound(f, args) => match ground {
+            Term::Compound(g, values) if f == g && args.len() == values.len() => {
+                args.iter().zip(values.iter()).all(|(a, v)| bind(a, v, bindings))
+            }
+            _ => false,
+        },
+        other => other == ground,
+    }
+}

@@ -1,0 +1,86 @@
+//! Graphviz DOT for the partial-order plan (`--emit pop-dot`) and the STN (`--emit stn-dot`).
+//!
+//! Node and edge order follow the plan, so the text is the same on every run.
+
+use std::fmt::Write;
+
+use petgraph::visit::EdgeRef;
+
+use crate::intern::Interner;
+use crate::ir::hir::{self, VarTable};
+use crate::ir::pop::{Pop, Reason};
+use crate::ir::stn::{EdgeKind, Stn, TimePoint, format_time};
+
+/// A DOT string literal.
+fn quote(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('"');
+    for c in text.chars() {
+        match c {
+            '"' | '\\' => {
+                out.push('\\');
+                out.push(c);
+            }
+            '\n' => out.push_str("\\n"),
+            _ => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn step_label(interner: &Interner, pop: &Pop, i: usize) -> String {
+    format!("a{}: {}", i + 1, hir::term_to_string(interner, &pop.steps[i].name, &VarTable::default()))
+}
+
+/// The partial order: a node per snap action, an edge per ordering (solid for achievers,
+/// bold from a start to its end, dashed for threats).
+pub fn pop(interner: &Interner, pop: &Pop) -> String {
+    let mut out = String::from("digraph partial_order {\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\"];\n");
+    let _ = writeln!(out, "  a0 [label={}, shape=ellipse];", quote("a0: initial state"));
+    for i in 0..pop.steps.len() {
+        let _ = writeln!(out, "  a{} [label={}];", i + 1, quote(&step_label(interner, pop, i)));
+    }
+    for (i, step) in pop.steps.iter().enumerate() {
+        if step.conditions.iter().all(|c| c.last == crate::ir::pop::Achiever::Init) && step.start.is_none() {
+            let _ = writeln!(out, "  a0 -> a{} [color=gray];", i + 1);
+        }
+    }
+    for ordering in &pop.orderings {
+        let style = match ordering.reason {
+            Reason::Achiever { .. } => "",
+            Reason::StartEnd => " [style=bold]",
+            Reason::Threat { .. } => " [style=dashed]",
+        };
+        let _ = writeln!(out, "  a{} -> a{}{style};", ordering.before + 1, ordering.after + 1);
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// The STN's distance graph: an edge `u -> v` labelled `w` means `t(v) - t(u) <= w`, in time
+/// units. The edges from every point to the origin are left out.
+pub fn stn(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
+    let mut out = String::from("digraph stn {\n  node [shape=box, fontname=\"monospace\"];\n");
+    let name = |p: TimePoint| match p {
+        TimePoint::Origin => "origin".to_string(),
+        TimePoint::Step(i) => format!("a{}", i + 1),
+    };
+    let _ = writeln!(out, "  origin [label=\"origin (t = 0)\", shape=ellipse];");
+    for i in 0..pop.steps.len() {
+        let _ = writeln!(out, "  a{} [label={}];", i + 1, quote(&step_label(interner, pop, i)));
+    }
+    for edge in stn.graph.edge_references() {
+        let weight = edge.weight();
+        let style = match weight.kind {
+            EdgeKind::AfterOrigin => continue,
+            EdgeKind::Precedence { .. } => "",
+            EdgeKind::MinDuration { .. } | EdgeKind::MaxDuration { .. } => ", color=blue",
+        };
+        let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
+        let _ =
+            writeln!(out, "  {} -> {} [label={}{style}];", name(from), name(to), quote(&format_time(weight.weight)));
+    }
+    out.push_str("}\n");
+    out
+}

@@ -1,0 +1,5 @@
+//! Pictures for people: Graphviz for the partial order and the temporal network, SVG for the
+//! schedule. Every function returns text; the CLI decides where it goes.
+
+pub mod dot;
+pub mod gantt;
