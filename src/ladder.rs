@@ -234,7 +234,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     }
     let (kb, interner) = (&frontend.kb, &frontend.interner);
     let mut task = passes::task::build(kb, 0);
-    let options = Options { search, max_depth, budget, plans: 1 };
+    let options = Options { search, max_depth, budget, plans: 1, improve: None };
     let outcome = planner::search(kb, interner, &mut task, &options, &mut Silent);
     let stats = outcome.stats;
     match outcome.result {

@@ -204,3 +204,63 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     assert_eq!(rows[0]["solved"], true);
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
 }
+
+#[test]
+fn schedule_output_is_a_timed_plan_that_validates() {
+    let out = kbc(&["plan", "examples/02_llm_stacking/test_case.pl", "--schedule"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let first = text.lines().find(|l| !l.starts_with('%')).expect("a timed action");
+    assert!(first.starts_with("0.000: (grip a"), "{text}");
+    assert!(first.ends_with(']'), "{text}");
+    let path = std::env::temp_dir().join(format!("kbc-cli-schedule-{}.txt", std::process::id()));
+    std::fs::write(&path, &text).expect("writable temporary file");
+    let check = kbc(&["validate", "examples/02_llm_stacking/test_case.pl", path.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    assert!(stdout(&check).starts_with("the timed plan is valid"), "{}", stdout(&check));
+}
+
+#[test]
+fn a_given_plan_is_checked_then_scheduled() {
+    let args = ["plan", "examples/06_partial_order/kb.pl", "--plan", "examples/06_partial_order/plan.txt"];
+    let out = kbc(&[&args[..], &["--dump-after", "pop"]].concat());
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("a8   move_block_end(a1, b2, 2, 2, 3, 3)       [a3, a7]"), "{text}");
+    let invalid = kbc(&["plan", "examples/06_partial_order/kb.pl", "--plan", "tests/ui/plan/aux/invalid_step.plan"]);
+    assert_eq!(invalid.status.code(), Some(1));
+    assert!(stderr(&invalid).contains("error[E0309]"), "{}", stderr(&invalid));
+}
+
+#[test]
+fn pictures_of_the_partial_order_the_stn_and_the_schedule() {
+    let pop = kbc(&["plan", "examples/06_partial_order/kb.pl", "--emit", "pop-dot"]);
+    assert_eq!(pop.status.code(), Some(0), "{}", stderr(&pop));
+    assert!(stdout(&pop).starts_with("digraph partial_order {"));
+    assert!(stdout(&pop).contains("a7 -> a8;"), "{}", stdout(&pop));
+    let stn = kbc(&["plan", "examples/06_partial_order/kb.pl", "--emit", "stn-dot"]);
+    assert!(stdout(&stn).starts_with("digraph stn {"));
+    assert!(stdout(&stn).contains("color=blue"), "duration edges: {}", stdout(&stn));
+    let path = std::env::temp_dir().join(format!("kbc-cli-gantt-{}.svg", std::process::id()));
+    let out = kbc(&[
+        "plan",
+        "examples/02_llm_stacking/test_case.pl",
+        "--emit",
+        "gantt-svg",
+        "-o",
+        path.to_str().expect("UTF-8 path"),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let svg = std::fs::read_to_string(&path).expect("the chart was written");
+    let _ = std::fs::remove_file(&path);
+    assert!(svg.starts_with("<svg"));
+    for arm in ["a1", "a2", "a3"] {
+        assert!(svg.contains(&format!(">{arm}</text>")), "a lane for {arm}");
+    }
+    assert_eq!(
+        kbc(&["plan", "examples/06_partial_order/kb.pl", "-o", "x.svg"]).status.code(),
+        Some(2),
+        "-o needs --emit"
+    );
+}

@@ -80,9 +80,10 @@ pub(super) struct PlanArgs {
     /// ask the search for up to this many other plans.
     #[arg(long, value_name = "N", default_value_t = 0)]
     retries: u32,
-    /// Find this many plans and keep the one with the shortest makespan.
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    candidates: u32,
+    /// After the first plan, go on searching for this many seconds for plans with a shorter
+    /// makespan, and keep the best (heuristic search).
+    #[arg(long, value_name = "SECONDS")]
+    improve: Option<f64>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -209,7 +210,8 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                     max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
                     ..planner::Budget::default()
                 },
-                plans: (args.retries as usize + 1).max(args.candidates.max(1) as usize),
+                plans: args.retries as usize + 1,
+                improve: args.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
             };
             let mut progress = TerminalProgress {
                 started: Instant::now(),
@@ -249,11 +251,11 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
         }
     };
     let (kb, interner) = (&frontend.kb, &frontend.interner);
-    // Schedule the plans: the first consistent one, or among the first `--candidates`
-    // consistent ones the one with the shortest makespan.
+    // Schedule the plans: with `--improve`, each plan found has a shorter estimated makespan
+    // than the one before, so the best schedule is sought among all of them; otherwise the
+    // first that can be scheduled is kept (`--retries` asks for more when it cannot).
     let mut chosen: Option<(usize, driver::Timed)> = None;
     let mut first_failure: Option<Diagnostics> = None;
-    let mut consistent = 0usize;
     for (index, plan) in plans.iter().enumerate() {
         if cfg!(debug_assertions) {
             plan::verify(kb, plan).unwrap_or_else(|e| panic!("internal compiler error: the plan verifier failed: {e}"));
@@ -261,7 +263,6 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
         let mut attempt = Diagnostics::new();
         match driver::schedule(kb, interner, &program, plan, &mut attempt) {
             Some(timed) => {
-                consistent += 1;
                 let better = chosen.as_ref().is_none_or(|(_, best)| timed.schedule.makespan < best.schedule.makespan);
                 if better {
                     if chosen.is_none() {
@@ -269,7 +270,7 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                     }
                     chosen = Some((index, timed));
                 }
-                if consistent >= args.candidates.max(1) as usize {
+                if args.improve.is_none() {
                     break;
                 }
             }

@@ -32,6 +32,8 @@ pub struct NegativeCycle {
 struct Adjacency {
     start: Vec<u32>,
     items: Vec<(u32, i64, EdgeIndex)>,
+    /// Whether the edges are the graph's, reversed.
+    reversed: bool,
 }
 
 impl Adjacency {
@@ -52,7 +54,7 @@ impl Adjacency {
             items[fill[from.index()] as usize] = (to.index() as u32, edge.weight().weight, edge.id());
             fill[from.index()] += 1;
         }
-        Adjacency { start, items }
+        Adjacency { start, items, reversed }
     }
 
     fn of(&self, node: usize) -> &[(u32, i64, EdgeIndex)] {
@@ -62,6 +64,7 @@ impl Adjacency {
 
 /// Shortest distances from `source` given initial upper bounds `dist`, or a negative cycle.
 fn shortest(adjacency: &Adjacency, source: usize, mut dist: Vec<i64>) -> Result<Vec<i64>, NegativeCycle> {
+    let reversed = adjacency.reversed;
     let n = dist.len();
     let mut parent: Vec<Option<(usize, EdgeIndex, i64)>> = vec![None; n];
     // The number of edges on each point's current shortest path: n or more means the path
@@ -90,7 +93,7 @@ fn shortest(adjacency: &Adjacency, source: usize, mut dist: Vec<i64>) -> Result<
                 parent[to] = Some((node, edge, weight));
                 edges_on_path[to] = edges_on_path[node] + 1;
                 if edges_on_path[to] as usize >= n {
-                    return Err(cycle_through(&parent, to, n));
+                    return Err(cycle_through(&parent, to, n, reversed));
                 }
                 if !queued[to] {
                     queued[to] = true;
@@ -102,8 +105,10 @@ fn shortest(adjacency: &Adjacency, source: usize, mut dist: Vec<i64>) -> Result<
     Ok(dist)
 }
 
-/// The negative cycle behind `node` in the parent graph.
-fn cycle_through(parent: &[Option<(usize, EdgeIndex, i64)>], node: usize, n: usize) -> NegativeCycle {
+/// The negative cycle behind `node` in the parent graph, its edges in the order they follow
+/// each other in the distance graph (walking the parents of a run on the reversed graph
+/// already goes that way; on the graph itself, backwards).
+fn cycle_through(parent: &[Option<(usize, EdgeIndex, i64)>], node: usize, n: usize, reversed: bool) -> NegativeCycle {
     // Walk back n steps to be sure to stand on the cycle.
     let mut at = node;
     for _ in 0..n {
@@ -123,7 +128,9 @@ fn cycle_through(parent: &[Option<(usize, EdgeIndex, i64)>], node: usize, n: usi
             break;
         }
     }
-    edges.reverse();
+    if !reversed {
+        edges.reverse();
+    }
     NegativeCycle { edges, weight }
 }
 

@@ -24,6 +24,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::hash::BuildHasher;
+use std::time::Instant;
 
 use hashbrown::HashTable;
 use rustc_hash::FxBuildHasher;
@@ -44,6 +45,8 @@ struct Node {
     /// The landmarks accepted on the path here; set when the node is expanded (a node can
     /// sit in both open lists, and is expanded once).
     accepted: Option<Accepted>,
+    /// The makespan of the prefix that leads here (achiever-based, see [`Timeline`]).
+    makespan: i64,
 }
 
 /// An open-list entry: landmark count plus h_FF, the prefix's makespan, h_FF, the time of
@@ -78,14 +81,18 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 
 /// Greedy best-first search.
 ///
-/// The search goes on after a goal state until `wanted` plans are found (each reaching a
-/// different goal state), the open lists are empty, or the budget runs out. With `temporal`,
-/// plan prefixes whose durations cannot be met are pruned ([`Timeline::consistent`]).
+/// After the first plan the search may go on (anytime, as LAMA does), each further plan with
+/// a shorter makespan than the last: prefixes that cannot beat it are pruned, and a state
+/// reached again by a prefix with a shorter makespan is searched again from there. It stops
+/// when `wanted` plans are found, `improve_until` has passed, the open lists are empty, or the
+/// budget runs out. With `temporal`, plan prefixes
+/// whose durations cannot be met are pruned ([`Timeline::consistent`]).
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
     budget: &Budget,
     wanted: usize,
+    improve_until: Option<Instant>,
     temporal: bool,
     progress: &mut dyn Progress,
 ) -> Outcome {
@@ -107,7 +114,9 @@ pub fn search(
     let mut seen: HashTable<u32> = HashTable::new();
     let mut bytes = init.footprint();
     seen.insert_unique(hasher.hash_one(&init), 0, |_| 0);
-    nodes.push(Node { state: init, parent: u32::MAX, action: None, depth: 0, accepted: None });
+    nodes.push(Node { state: init, parent: u32::MAX, action: None, depth: 0, accepted: None, makespan: 0 });
+    // Once a plan is found: the makespan to beat.
+    let mut best: Option<i64> = None;
     let mut regular: BinaryHeap<Entry> = BinaryHeap::new();
     let mut preferred: BinaryHeap<Entry> = BinaryHeap::new();
     regular.push(Reverse((0, 0, 0, 0, 0, 0)));
@@ -130,6 +139,9 @@ pub fn search(
         }
         if let Some(kind) = over_budget(budget, &stats, bytes) {
             return Outcome::ended(found, Failure::Budget(kind), stats);
+        }
+        if !found.is_empty() && improve_until.is_some_and(|until| Instant::now() >= until) {
+            return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
         }
         // The timeline of the plan prefix that leads here, replayed from the root; a prefix
         // that cannot be scheduled (an action overruns its maximum duration) is a dead end.
@@ -178,10 +190,6 @@ pub fn search(
         for action in applicable.drain(..) {
             let child = successors::apply(task, &state, &action);
             stats.generated += 1;
-            let hash = hasher.hash_one(&child);
-            if seen.find(hash, |&n| nodes[n as usize].state == child).is_some() {
-                continue;
-            }
             let placement = {
                 let (machine, _) = successors.parts();
                 match timeline.place(task, machine, &mut durations, &action) {
@@ -190,32 +198,53 @@ pub fn search(
                 }
             };
             let (time, makespan) = (placement.time, timeline.makespan.max(placement.until));
-            let helpful = in_relaxed_plan(task, &estimate.helpful, &action)
-                || relaxation.achieves_subgoal(task, &action, &estimate.subgoals);
-            let goal = successors::goal_reached(task, &child);
-            let child_id = nodes.len() as u32;
-            bytes += child.footprint() + std::mem::size_of::<Node>();
-            stats.peak_bytes = stats.peak_bytes.max(bytes);
-            if goal && temporal {
-                // The last steps must fit their durations too.
-                let mut complete = timeline.clone();
-                complete.record(task, &action, placement);
-                if !complete.consistent() {
-                    stats.unschedulable += 1;
-                    continue;
-                }
+            if best.is_some_and(|best| makespan >= best) {
+                continue; // cannot improve on the plan already found
             }
-            nodes.push(Node { state: child, parent: id, action: Some(action), depth, accepted: None });
-            seen.insert_unique(hash, child_id, |&n| hasher.hash_one(&nodes[n as usize].state));
-            if goal {
-                path_to(&nodes, child_id, &mut path);
-                let actions: Vec<Applicable> = path.iter().filter_map(|&n| nodes[n as usize].action.clone()).collect();
+            if successors::goal_reached(task, &child) {
+                if temporal {
+                    // The last steps must fit their durations too.
+                    let mut complete = timeline.clone();
+                    complete.record(task, &action, placement);
+                    if !complete.consistent() {
+                        stats.unschedulable += 1;
+                        continue;
+                    }
+                }
+                let mut actions: Vec<Applicable> =
+                    path.iter().filter_map(|&n| nodes[n as usize].action.clone()).collect();
+                actions.push(action);
                 found.push(plan_from(task, &actions));
-                if found.len() >= wanted {
+                best = Some(makespan);
+                if found.len() >= wanted || improve_until.is_some_and(|until| Instant::now() >= until) {
                     return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
                 }
                 continue; // a goal state is not expanded
             }
+            let hash = hasher.hash_one(&child);
+            if let Some(&other) = seen.find(hash, |&n| nodes[n as usize].state == child) {
+                // Once improving, a state reached by a prefix with a shorter makespan is
+                // searched again from there.
+                let better = best.is_some() && makespan < nodes[other as usize].makespan;
+                // (Never below one of its own descendants: the parents must stay a tree.)
+                if better && nodes[other as usize].parent != u32::MAX && !path.contains(&other) {
+                    let node = &mut nodes[other as usize];
+                    node.parent = id;
+                    node.action = Some(action);
+                    node.depth = depth;
+                    node.makespan = makespan;
+                    node.accepted = None;
+                    regular.push(Reverse((h_lm + h_ff, makespan, h_ff, time, depth, other)));
+                }
+                continue;
+            }
+            let helpful = in_relaxed_plan(task, &estimate.helpful, &action)
+                || relaxation.achieves_subgoal(task, &action, &estimate.subgoals);
+            let child_id = nodes.len() as u32;
+            bytes += child.footprint() + std::mem::size_of::<Node>();
+            stats.peak_bytes = stats.peak_bytes.max(bytes);
+            nodes.push(Node { state: child, parent: id, action: Some(action), depth, accepted: None, makespan });
+            seen.insert_unique(hash, child_id, |&n| hasher.hash_one(&nodes[n as usize].state));
             let entry = Reverse((h_lm + h_ff, makespan, h_ff, time, depth, child_id));
             if helpful {
                 preferred.push(entry);

@@ -75,13 +75,17 @@ pub struct Options {
     /// Limits.
     pub budget: Budget,
     /// How many different plans to find before stopping (at least one): the search goes on
-    /// after the first, within its budget, and reports the others as alternatives.
+    /// after the first, within its budget, and reports the others as alternatives (for the
+    /// heuristic search, each with a shorter makespan than the one before).
     pub plans: usize,
+    /// For the heuristic search: how long to go on improving the makespan after the first
+    /// plan (within the budget).
+    pub improve: Option<Duration>,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default(), plans: 1 }
+        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default(), plans: 1, improve: None }
     }
 }
 
@@ -227,15 +231,18 @@ pub fn search(
             paper::search(task, successors, limit, &options.budget, options.plans.max(1), progress)
         }
         SearchKind::Heuristic => {
-            let wanted = options.plans.max(1);
-            let outcome = best_first::search(task, successors, &options.budget, wanted, true, progress);
+            let (wanted, until) = match options.improve {
+                Some(time) => (usize::MAX, Some(Instant::now() + time)),
+                None => (options.plans.max(1), None),
+            };
+            let outcome = best_first::search(task, successors, &options.budget, wanted, until, true, progress);
             if matches!(outcome.result, Err(Failure::Exhausted { .. })) && outcome.stats.unschedulable > 0 {
                 // Every plan the search could reach was pruned for its durations. Plan once
                 // more without the temporal check: the scheduler then rejects that plan with
                 // a diagnostic naming the constraints that cannot be met, which says far more
                 // than "no plan".
                 let successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
-                let mut retry = best_first::search(task, successors, &options.budget, wanted, false, progress);
+                let mut retry = best_first::search(task, successors, &options.budget, wanted, until, false, progress);
                 retry.stats.unschedulable += outcome.stats.unschedulable;
                 retry
             } else {
