@@ -73,10 +73,13 @@ fn shortest(adjacency: &Adjacency, source: usize, mut dist: Vec<i64>) -> Result<
     let mut queued = vec![false; n];
     let mut queue: VecDeque<usize> = VecDeque::with_capacity(n);
     // Every point with a finite bound starts in the queue, the source first: only the source
-    // in the earliest-time run, every point in the latest-time run.
+    // in the earliest-time run, every point in the latest-time run. Steps are numbered in plan
+    // order, and latest times flow from later steps to earlier ones, so the latest-time run
+    // queues them last step first: in that order each point is final, on most plans, the first
+    // time it is taken from the queue (in plan order the run took quadratic time).
     queue.push_back(source);
     queued[source] = true;
-    for (node, &d) in dist.iter().enumerate() {
+    for (node, &d) in dist.iter().enumerate().rev() {
         if d < i64::MAX && !queued[node] {
             queue.push_back(node);
             queued[node] = true;
