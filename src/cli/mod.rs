@@ -19,6 +19,7 @@ use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
 use crate::syntax::printer;
 
 mod bench;
+mod export;
 mod plan;
 mod validate;
 
@@ -61,6 +62,9 @@ enum Command {
     /// time budget, validates every plan, and prints plan length, makespan, states expanded,
     /// time and the paper/heuristic time ratio. `--write DIR` writes the goal files instead.
     Bench(bench::BenchArgs),
+    /// Write a problem of the KB for other tools (PDDL 2.1).
+    #[command(subcommand)]
+    Export(export::ExportCommand),
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -116,6 +120,7 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan::run(args, color),
         Command::Validate(args) => validate::run(args, color),
         Command::Bench(args) => bench::run(args),
+        Command::Export(command) => export::run(command, color),
         Command::Explain { code } => explain(&code),
     }
 }

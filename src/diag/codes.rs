@@ -130,6 +130,8 @@ codes! {
     INCONSISTENT_STN = "E0401": "durations and orderings that no schedule satisfies";
     BAD_DURATION_VALUE = "E0402": "a duration that cannot be used";
     INVALID_SCHEDULE = "E0403": "a timed plan that does not execute";
+    EXPORT_INEXPRESSIBLE = "E0404": "a KB construct PDDL cannot express";
+    EXPORT_TOO_LARGE = "E0405": "an export that would be too large";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";
@@ -137,6 +139,7 @@ codes! {
     MARKED_SINGLETON_REUSED = "W0004": "a `_`-prefixed variable used more than once";
     DISCONTIGUOUS = "W0005": "clauses of a predicate not together";
     DEFAULT_DURATION = "W0006": "a durative action without a duration";
+    EXPORT_LEAVES_OUT = "W0007": "a KB part the PDDL export leaves out";
 }
 
 #[cfg(test)]

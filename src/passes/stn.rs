@@ -38,7 +38,7 @@ fn to_stn_time(value: f64) -> Option<i64> {
 
 /// The bounds `duration(instance, Min, Max)` gives (a maximum of `None` for `inf`), or why
 /// not: `Ok(None)` when no clause answers.
-fn query_duration(machine: &mut Machine<'_>, instance: &Term) -> Result<Option<(f64, Option<f64>)>, String> {
+pub(crate) fn query_duration(machine: &mut Machine<'_>, instance: &Term) -> Result<Option<(f64, Option<f64>)>, String> {
     machine.reset();
     let mut vars = [None, None];
     let query = Term::Compound(sym::DURATION, Box::new([instance.clone(), Term::Var(VarId(0)), Term::Var(VarId(1))]));

@@ -244,12 +244,20 @@ pub struct Successors<'p> {
     cache: OnKbCache,
     bindings: Vec<Option<ConstId>>,
     trail: Vec<u32>,
+    /// Skip Invalid conditions (for the delete relaxation, see [`relaxed_reachable`]).
+    ignore_invalid: bool,
 }
 
 impl<'p> Successors<'p> {
     /// A generator for `task`, proving OnKB goals with `machine`.
     pub fn new(task: &Task, machine: Machine<'p>) -> Successors<'p> {
-        Successors { machine, cache: OnKbCache::new(task), bindings: Vec::new(), trail: Vec::new() }
+        Successors {
+            machine,
+            cache: OnKbCache::new(task),
+            bindings: Vec::new(),
+            trail: Vec::new(),
+            ignore_invalid: false,
+        }
     }
 
     /// The engine and the OnKB cache, for the heuristic's relaxed exploration.
@@ -302,6 +310,14 @@ impl<'p> Successors<'p> {
         let Some(literal) = cx.schema.valid.get(position) else {
             return self.on_kb(cx, ends);
         };
+        // A literal whose arguments are all bound (an end's literals often are, by its running
+        // start) matches at most one fact: look it up rather than scan the predicate's facts.
+        if let Some(args) = bound_args(literal, &self.bindings) {
+            if cx.facts.find(literal.pred, &args).is_some_and(|fact| cx.state.contains(cx.facts, fact)) {
+                self.valid(cx, position + 1, ends)?;
+            }
+            return Ok(());
+        }
         for fact in cx.state.facts_of(literal.pred) {
             let mark = self.trail.len();
             if match_literal(literal, fact, cx.consts, cx.facts, &mut self.bindings, &mut self.trail) {
@@ -345,7 +361,8 @@ impl<'p> Successors<'p> {
         {
             return;
         }
-        for literal in cx.schema.invalid.iter() {
+        let invalid: &[LiteralPattern] = if self.ignore_invalid { &[] } else { &cx.schema.invalid };
+        for literal in invalid {
             for fact in cx.state.facts_of(literal.pred) {
                 let mark = self.trail.len();
                 let matches = match_literal(literal, fact, cx.consts, cx.facts, &mut self.bindings, &mut self.trail);
@@ -374,6 +391,19 @@ struct Context<'a> {
     index: usize,
     state: &'a State,
     out: &'a mut Vec<Applicable>,
+}
+
+/// The values of a literal's arguments when each is a constant or a bound variable.
+fn bound_args(literal: &LiteralPattern, bindings: &[Option<ConstId>]) -> Option<Vec<ConstId>> {
+    literal
+        .args
+        .iter()
+        .map(|a| match a {
+            Pattern::Const(c) => Some(*c),
+            Pattern::Var(v) => bindings[*v as usize],
+            Pattern::Compound(..) => None,
+        })
+        .collect()
 }
 
 fn pattern_bound(pattern: &Pattern, bindings: &[Option<ConstId>]) -> bool {
@@ -429,6 +459,70 @@ pub fn running_instance(schema: &Schema, consts: &mut Consts, bindings: &[Option
     } else {
         consts.intern(Const::Compound(schema.base, args.into_boxed_slice()))
     })
+}
+
+/// What the delete relaxation reaches from the initial state: every fact, and every action
+/// instance whose Valid, OnKB and InvalidAtEnd conditions hold in some relaxed state (Invalid
+/// conditions and deletions ignored). A superset of what any plan can reach, computed to a
+/// fixpoint with the same matching as the search.
+pub struct Reachable {
+    /// The facts, in the order reached.
+    pub facts: Vec<FactId>,
+    /// The action instances, in the order of the last round (schemas in clause order).
+    pub actions: Vec<Applicable>,
+}
+
+/// Why [`relaxed_reachable`] stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReachError {
+    /// An OnKB goal failed with an engine error.
+    Condition(ConditionError),
+    /// More action instances than the limit.
+    TooMany(usize),
+}
+
+/// Computes [`Reachable`] for `task`, giving up beyond `limit` action instances.
+pub fn relaxed_reachable(task: &mut Task, machine: Machine<'_>, limit: usize) -> Result<Reachable, ReachError> {
+    let mut successors = Successors::new(task, machine);
+    successors.ignore_invalid = true;
+    let mut facts: Vec<FactId> = task.init.facts().collect();
+    let mut known: rustc_hash::FxHashSet<FactId> = facts.iter().copied().collect();
+    let mut running: Vec<ConstId> = Vec::new();
+    let mut running_known: rustc_hash::FxHashSet<ConstId> = Default::default();
+    let mut out = Vec::new();
+    loop {
+        let state = State::new(&task.facts, facts.iter().copied(), running.iter().copied());
+        successors.applicable(task, &state, &mut out).map_err(ReachError::Condition)?;
+        if out.len() > limit {
+            return Err(ReachError::TooMany(out.len()));
+        }
+        let before = (facts.len(), running.len());
+        for action in &out {
+            let Task { consts, facts: table, schemas, .. } = &mut *task;
+            let schema = &schemas[action.schema];
+            for (kind, literal) in schema.effects.iter() {
+                if *kind != EffectKind::Add {
+                    continue;
+                }
+                let args: Option<Vec<ConstId>> =
+                    literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
+                let Some(args) = args else { continue };
+                let fact = table.intern(literal.pred, &args);
+                if known.insert(fact) {
+                    facts.push(fact);
+                }
+            }
+            if schema.snap == Snap::Start
+                && let Some(instance) = running_instance(schema, consts, &action.bindings)
+                && running_known.insert(instance)
+            {
+                running.push(instance);
+            }
+        }
+        if (facts.len(), running.len()) == before {
+            return Ok(Reachable { facts, actions: out });
+        }
+    }
 }
 
 /// The state after applying `action` to `state`: effects in list order, then the running

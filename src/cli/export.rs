@@ -1,0 +1,122 @@
+//! `kbc export pddl`: writes one problem of a KB as a PDDL 2.1 domain and problem (and the
+//! names file that maps them back), for other planners.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::ValueEnum;
+
+use super::{MessageFormat, report};
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::driver;
+use crate::passes;
+use crate::planner;
+use crate::render::pddl::{self, Durations};
+use crate::source::SourceDb;
+
+#[derive(clap::Subcommand)]
+pub(super) enum ExportCommand {
+    /// Write a PDDL 2.1 domain and problem equivalent to one problem of the KB.
+    ///
+    /// Writes DIR/domain.pddl, DIR/problem.pddl and DIR/names.json (PDDL names back to the
+    /// KB's terms and snap actions). Durative actions become PDDL durative actions, Invalid
+    /// literals negative (existential) conditions, OnKB goals and InvalidAtEnd literals static
+    /// predicates listing their solutions, `duration/3` the actions' durations. What PDDL
+    /// cannot express is an error naming the schema (E0404); nothing is written then.
+    Pddl(PddlArgs),
+}
+
+#[derive(clap::Args)]
+pub(super) struct PddlArgs {
+    /// KB and goal files, read together.
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<PathBuf>,
+    /// The problem to export (a test name such as `test1`, or a goal file's stem).
+    #[arg(long, value_name = "NAME")]
+    problem: Option<String>,
+    /// The directory to write the files to (created if missing).
+    #[arg(short, long, value_name = "DIR")]
+    output: PathBuf,
+    /// Compile negative conditions away into complement predicates (`not_p`), for planners
+    /// without `:negative-preconditions` (LPG, for one).
+    #[arg(long)]
+    no_negative_preconditions: bool,
+    /// How to write a duration with a range: as inequalities, or its minimum only (for
+    /// planners without `:duration-inequalities`).
+    #[arg(long, value_enum, default_value_t = DurationsArg::Exact)]
+    durations: DurationsArg,
+    /// The most action instances the export may explore, and the most complement facts or
+    /// expanded conditions it may write.
+    #[arg(long, value_name = "N", default_value_t = 2_000_000)]
+    limit: usize,
+    /// How to print diagnostics: for people, or one JSON object per line on stdout.
+    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DurationsArg {
+    /// `[min, max]` as `(and (>= ?duration min) (<= ?duration max))`.
+    Exact,
+    /// `(= ?duration min)`.
+    Min,
+}
+
+pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
+    let ExportCommand::Pddl(args) = command;
+    let mut db = SourceDb::new();
+    let mut diagnostics = Diagnostics::new();
+    let roots = super::read_roots(&args.files, &mut db, &mut diagnostics);
+    let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
+    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
+        report(db, diagnostics, args.message_format, color);
+        ExitCode::from(1)
+    };
+    if diagnostics.has_errors() {
+        return fail(&db, &diagnostics);
+    }
+    let problem = match driver::select_problem(&frontend.kb, &frontend.interner, args.problem.as_deref()) {
+        Ok(problem) => problem,
+        Err(diagnostic) => {
+            diagnostics.push(*diagnostic);
+            return fail(&db, &diagnostics);
+        }
+    };
+    let program = planner::program_for(&frontend.kb, problem);
+    let mut task = passes::task::build(&frontend.kb, problem);
+    let options = pddl::Options {
+        negative_preconditions: !args.no_negative_preconditions,
+        durations: match args.durations {
+            DurationsArg::Exact => Durations::Exact,
+            DurationsArg::Min => Durations::Min,
+        },
+        limit: args.limit,
+    };
+    let exported = pddl::export(&frontend.kb, &frontend.interner, &program, &mut task, options, &mut diagnostics);
+    let Some(exported) = exported.filter(|_| !diagnostics.has_errors()) else {
+        return fail(&db, &diagnostics);
+    };
+    if let Err(error) = std::fs::create_dir_all(&args.output) {
+        diagnostics.push(Diagnostic::error(
+            crate::diag::codes::UNREADABLE_FILE,
+            format!("cannot create `{}`: {}", args.output.display(), super::io_reason(&error)),
+        ));
+        return fail(&db, &diagnostics);
+    }
+    let files =
+        [("domain.pddl", &exported.domain), ("problem.pddl", &exported.problem), ("names.json", &exported.names)];
+    for (name, text) in files {
+        let path = args.output.join(name);
+        if let Err(error) = super::write_atomically(&path, text.as_bytes()) {
+            report(&db, &diagnostics, args.message_format, color);
+            eprintln!("error: cannot write `{}`: {}", path.display(), super::io_reason(&error));
+            return ExitCode::from(1);
+        }
+    }
+    report(&db, &diagnostics, args.message_format, color);
+    if args.message_format == MessageFormat::Human {
+        eprintln!("wrote {}/{{domain.pddl, problem.pddl, names.json}}", args.output.display());
+    }
+    ExitCode::SUCCESS
+}

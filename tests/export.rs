@@ -1,0 +1,335 @@
+//! `kbc export pddl`: the files are well formed PDDL whose every name is declared and maps back
+//! to the KB, and, where the Kairos planner is installed (`pip install kairos-planner`), the
+//! plans another planner finds for them replay on the KB through kbc's own timed validator.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// An s-expression: an atom or a list.
+#[derive(Debug, Clone, PartialEq)]
+enum Sexp {
+    Atom(String),
+    List(Vec<Sexp>),
+}
+
+/// Reads every top-level s-expression of PDDL text (`;` comments skipped), lower-cased.
+fn parse(text: &str) -> Vec<Sexp> {
+    let mut stack: Vec<Vec<Sexp>> = vec![Vec::new()];
+    let mut atom = String::new();
+    let flush = |atom: &mut String, stack: &mut Vec<Vec<Sexp>>| {
+        if !atom.is_empty() {
+            stack.last_mut().expect("a level").push(Sexp::Atom(atom.to_lowercase()));
+            atom.clear();
+        }
+    };
+    for line in text.lines() {
+        let line = line.split(';').next().unwrap_or("");
+        for c in line.chars() {
+            match c {
+                '(' => {
+                    flush(&mut atom, &mut stack);
+                    stack.push(Vec::new());
+                }
+                ')' => {
+                    flush(&mut atom, &mut stack);
+                    let list = stack.pop().expect("balanced parentheses");
+                    assert!(!stack.is_empty(), "a `)` without its `(`");
+                    stack.last_mut().expect("a level").push(Sexp::List(list));
+                }
+                c if c.is_whitespace() => flush(&mut atom, &mut stack),
+                c => atom.push(c),
+            }
+        }
+        flush(&mut atom, &mut stack);
+    }
+    assert_eq!(stack.len(), 1, "unbalanced parentheses");
+    stack.pop().expect("the top level")
+}
+
+fn list(s: &Sexp) -> &[Sexp] {
+    match s {
+        Sexp::List(items) => items,
+        Sexp::Atom(a) => panic!("expected a list, found `{a}`"),
+    }
+}
+
+fn atom(s: &Sexp) -> &str {
+    match s {
+        Sexp::Atom(a) => a,
+        Sexp::List(_) => panic!("expected an atom"),
+    }
+}
+
+/// The section `(:key ...)` of a `define`.
+fn section<'a>(define: &'a [Sexp], key: &str) -> Option<&'a [Sexp]> {
+    define
+        .iter()
+        .filter_map(|s| if let Sexp::List(items) = s { Some(items) } else { None })
+        .find_map(|items| (items.first() == Some(&Sexp::Atom(key.to_string()))).then_some(&items[1..]))
+}
+
+const CONNECTIVES: &[&str] = &["and", "not", "at", "over", "exists"];
+
+/// Checks every atom `(p args)` in a formula: `p` declared with that arity, every argument a
+/// variable in `vars` or an object in `objects`.
+fn check_formula(f: &Sexp, predicates: &BTreeMap<String, usize>, vars: &BTreeSet<String>, objects: &BTreeSet<String>) {
+    let items = list(f);
+    let Some(head) = items.first() else { return };
+    let head = atom(head);
+    match head {
+        "and" | "not" => items[1..].iter().for_each(|g| check_formula(g, predicates, vars, objects)),
+        "at" | "over" => check_formula(&items[2], predicates, vars, objects),
+        "exists" => {
+            let mut inner = vars.clone();
+            inner.extend(list(&items[1]).iter().map(|v| atom(v).to_string()));
+            check_formula(&items[2], predicates, &inner, objects);
+        }
+        "=" | ">=" | "<=" => {} // numeric, checked by the planner run
+        name => {
+            assert!(!CONNECTIVES.contains(&name));
+            let arity = predicates.get(name).unwrap_or_else(|| panic!("undeclared predicate `{name}`"));
+            assert_eq!(*arity, items.len() - 1, "`{name}` used with the wrong arity");
+            for arg in &items[1..] {
+                let arg = atom(arg);
+                if arg.starts_with('?') {
+                    assert!(vars.contains(arg), "unbound variable `{arg}` in `{name}`");
+                } else {
+                    assert!(objects.contains(arg), "undeclared object `{arg}` in `{name}`");
+                }
+            }
+        }
+    }
+}
+
+struct Exported {
+    dir: PathBuf,
+    names: serde_json::Value,
+}
+
+fn export(files: &[&str], dir: &str, extra: &[&str]) -> Exported {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(dir);
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = Command::new(env!("CARGO_BIN_EXE_kbc"))
+        .args(["export", "pddl"])
+        .args(files)
+        .arg("-o")
+        .arg(&dir)
+        .args(extra)
+        .output()
+        .expect("kbc runs");
+    assert!(output.status.success(), "kbc export failed: {}", String::from_utf8_lossy(&output.stderr));
+    let names = std::fs::read_to_string(dir.join("names.json")).expect("names.json");
+    Exported { names: serde_json::from_str(&names).expect("names.json is JSON"), dir }
+}
+
+/// Parses both files and checks every name in them.
+fn check_well_formed(exported: &Exported) {
+    let domain = parse(&std::fs::read_to_string(exported.dir.join("domain.pddl")).expect("domain"));
+    let problem = parse(&std::fs::read_to_string(exported.dir.join("problem.pddl")).expect("problem"));
+    let domain = list(&domain[0]);
+    let problem = list(&problem[0]);
+    assert_eq!(atom(&domain[0]), "define");
+    let mut predicates = BTreeMap::new();
+    for p in section(domain, ":predicates").expect("predicates") {
+        let p = list(p);
+        predicates.insert(atom(&p[0]).to_string(), p.len() - 1);
+    }
+    let objects: BTreeSet<String> =
+        section(problem, ":objects").expect("objects").iter().map(|o| atom(o).to_string()).collect();
+    // Every object maps back to a KB term, and nothing else is in the map.
+    let mapped: BTreeSet<String> = exported.names["objects"].as_object().expect("objects").keys().cloned().collect();
+    assert_eq!(mapped, objects);
+    let mut actions = 0;
+    for item in domain.iter().skip(2) {
+        let items = list(item);
+        let kind = atom(&items[0]);
+        if kind != ":durative-action" && kind != ":action" {
+            continue;
+        }
+        actions += 1;
+        let name = atom(&items[1]);
+        let entry = &exported.names["actions"][name];
+        assert!(entry.is_object(), "action `{name}` is missing from names.json");
+        let mut vars = BTreeSet::new();
+        let mut i = 2;
+        while i < items.len() {
+            let key = atom(&items[i]);
+            let value = &items[i + 1];
+            match key {
+                ":parameters" => {
+                    vars = list(value).iter().map(|v| atom(v).to_string()).collect();
+                    let listed: BTreeSet<String> = entry["parameters"]
+                        .as_array()
+                        .expect("parameters")
+                        .iter()
+                        .map(|p| p.as_str().expect("a name").to_string())
+                        .collect();
+                    assert_eq!(listed, vars, "parameters of `{name}`");
+                }
+                ":condition" | ":precondition" | ":effect" => check_formula(value, &predicates, &vars, &objects),
+                _ => {}
+            }
+            i += 2;
+        }
+    }
+    assert!(actions > 0);
+    let no_vars = BTreeSet::new();
+    for fact in section(problem, ":init").expect("init") {
+        if atom(&list(fact)[0]) != "=" {
+            check_formula(fact, &predicates, &no_vars, &objects);
+        }
+    }
+    check_formula(&section(problem, ":goal").expect("goal")[0], &predicates, &no_vars, &objects);
+}
+
+#[test]
+fn the_exported_files_are_well_formed_and_every_name_maps_back() {
+    for (files, dir, extra) in [
+        (&["examples/02_llm_stacking/test_case.pl"][..], "export-test-case", &[][..]),
+        (
+            &["examples/02_llm_stacking/test_case.pl"][..],
+            "export-test-case-positive",
+            &["--no-negative-preconditions"][..],
+        ),
+        (
+            &["examples/01_paper_tests/tests.pl", "--problem", "test3"][..],
+            "export-paper-test3",
+            &["--durations", "min"][..],
+        ),
+        (&["examples/06_partial_order/kb.pl"][..], "export-partial-order", &[][..]),
+    ] {
+        let exported = export(files, dir, extra);
+        check_well_formed(&exported);
+    }
+}
+
+#[test]
+fn without_negative_preconditions_no_negative_condition_is_left() {
+    let exported =
+        export(&["examples/02_llm_stacking/test_case.pl"], "export-no-negative", &["--no-negative-preconditions"]);
+    let domain = std::fs::read_to_string(exported.dir.join("domain.pddl")).expect("domain");
+    assert!(domain.contains("not_gripping"), "complements are declared and used");
+    for line in domain.lines().filter(|l| l.contains("(at start (not") || l.contains("(at end (not")) {
+        // Only effects may negate (deletions); conditions come before `:effect`.
+        assert!(!line.contains("exists"), "an existential negative condition is left: {line}");
+    }
+    let conditions: Vec<&str> =
+        domain.split(":condition").skip(1).map(|rest| rest.split(":effect").next().expect("conditions")).collect();
+    assert!(!conditions.is_empty());
+    for c in conditions {
+        assert!(!c.contains("(not "), "a negative condition is left: {c}");
+    }
+    assert!(!domain.contains(":negative-preconditions"));
+}
+
+#[test]
+fn the_export_is_deterministic() {
+    let a = export(&["examples/02_llm_stacking/test_case.pl"], "export-det-a", &[]);
+    let b = export(&["examples/02_llm_stacking/test_case.pl"], "export-det-b", &[]);
+    for file in ["domain.pddl", "problem.pddl", "names.json"] {
+        let x = std::fs::read(a.dir.join(file)).expect("file");
+        let y = std::fs::read(b.dir.join(file)).expect("file");
+        assert!(x == y, "{file} differs between two runs");
+    }
+}
+
+/// A timed plan in the PDDL names, rewritten in the KB's terms through names.json.
+fn map_back(plan: &str, names: &serde_json::Value) -> String {
+    let mut out = String::new();
+    for line in plan.lines() {
+        let line = line.trim();
+        let Some((time, rest)) = line.split_once(':') else { continue };
+        if time.trim().parse::<f64>().is_err() {
+            continue;
+        }
+        let open = rest.find('(').expect("an action");
+        let close = rest.find(')').expect("an action");
+        let parts: Vec<String> = rest[open + 1..close].split_whitespace().map(str::to_lowercase).collect();
+        let duration = rest[close..].split('[').nth(1).and_then(|d| d.split(']').next()).unwrap_or("");
+        let entry = &names["actions"][&parts[0]];
+        let parameters: Vec<&str> =
+            entry["parameters"].as_array().expect("parameters").iter().map(|p| p.as_str().expect("name")).collect();
+        let template = entry["start"].as_str().or_else(|| entry["instant"].as_str()).expect("a template");
+        // grip_start(?a, ?b) -> grip a1 b2 (the timed plan names the durative action).
+        let (functor, args) = template.split_once('(').unwrap_or((template, ")"));
+        let functor = functor.strip_suffix("_start").unwrap_or(functor);
+        let mut words = vec![functor.to_string()];
+        for arg in args.trim_end_matches(')').split(',').map(str::trim).filter(|a| !a.is_empty()) {
+            let index = parameters.iter().position(|p| *p == arg).expect("a parameter");
+            let object = &parts[1 + index];
+            words.push(names["objects"][object].as_str().expect("an object").to_string());
+        }
+        let duration = if duration.is_empty() { String::new() } else { format!(" [{duration}]") };
+        out.push_str(&format!("{}: ({}){duration}\n", time.trim(), words.join(" ")));
+    }
+    out
+}
+
+fn kairos() -> Option<PathBuf> {
+    let found = Command::new("kairos").arg("--version").output().ok()?;
+    found.status.success().then(|| PathBuf::from("kairos"))
+}
+
+fn solve_and_validate(kb: &[&str], exported: &Exported) {
+    let Some(kairos) = kairos() else { return };
+    let output = Command::new(&kairos)
+        .arg(exported.dir.join("domain.pddl"))
+        .arg(exported.dir.join("problem.pddl"))
+        .args(["--timeout", "60", "--no-anytime", "--threads", "1"])
+        .output()
+        .expect("kairos runs");
+    let plan = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success() && plan.contains(':'),
+        "Kairos found no plan: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let timed = map_back(&plan, &exported.names);
+    let path = exported.dir.join("kairos-plan.txt");
+    std::fs::write(&path, &timed).expect("writable");
+    let validated =
+        Command::new(env!("CARGO_BIN_EXE_kbc")).arg("validate").args(kb).arg(&path).output().expect("kbc runs");
+    assert!(
+        validated.status.success(),
+        "kbc rejects Kairos's plan for {kb:?}:\n{timed}\n{}",
+        String::from_utf8_lossy(&validated.stderr)
+    );
+}
+
+#[test]
+fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
+    if kairos().is_none() {
+        eprintln!("skipped: `kairos` is not on PATH (pip install kairos-planner); .ci/run installs it");
+        return;
+    }
+    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-ladder");
+    std::fs::create_dir_all(&ladder_dir).expect("writable");
+    let mut cases: Vec<(Vec<String>, &str)> =
+        vec![(vec!["examples/02_llm_stacking/test_case.pl".into()], "k-test-case")];
+    for rung in kbc::ladder::standard().into_iter().filter(|r| r.blocks <= 4) {
+        let path = ladder_dir.join(format!("{}.pl", rung.name()));
+        std::fs::write(&path, rung.source()).expect("writable");
+        cases.push((vec![path.display().to_string()], "k-ladder"));
+    }
+    for (i, (kb, dir)) in cases.iter().enumerate() {
+        let kb: Vec<&str> = kb.iter().map(String::as_str).collect();
+        for (j, extra) in [&[][..], &["--no-negative-preconditions"][..]].iter().enumerate() {
+            let exported = export(&kb, &format!("{dir}-{i}-{j}"), extra);
+            solve_and_validate(&kb, &exported);
+        }
+    }
+}
+
+#[test]
+fn the_names_file_leaves_nothing_unmapped() {
+    let exported = export(&["examples/02_llm_stacking/test_case.pl"], "export-names", &[]);
+    let objects = exported.names["objects"].as_object().expect("objects");
+    // Numbers get a letter and map back to the number.
+    assert_eq!(objects.get("n3").and_then(|v| v.as_str()), Some("3"));
+    assert_eq!(objects.get("b1").and_then(|v| v.as_str()), Some("b1"));
+    let grip = &exported.names["actions"]["grip_1"];
+    assert_eq!(grip["start"].as_str(), Some("grip_start(?a, ?b)"));
+    assert_eq!(grip["end"].as_str(), Some("grip_end(?a, ?b)"));
+    assert!(Path::new(&exported.dir.join("problem.pddl")).exists());
+}
