@@ -72,11 +72,13 @@ pub fn standard() -> Vec<Rung> {
     rungs
 }
 
-/// SplitMix64: a small, well-mixed generator, enough to shuffle reproducibly.
-struct SplitMix64(u64);
+/// SplitMix64: a small, well-mixed generator, enough to shuffle reproducibly (also used by
+/// the benchmarks to generate their inputs).
+pub struct SplitMix64(pub u64);
 
 impl SplitMix64 {
-    fn next(&mut self) -> u64 {
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -85,11 +87,11 @@ impl SplitMix64 {
     }
 
     /// A uniform integer below `n` (`n > 0`), by rejection so there is no modulo bias.
-    fn below(&mut self, n: usize) -> usize {
+    pub fn below(&mut self, n: usize) -> usize {
         let n = n as u64;
         let zone = u64::MAX - u64::MAX % n;
         loop {
-            let x = self.next();
+            let x = self.next_u64();
             if x < zone {
                 return (x % n) as usize;
             }

@@ -2,9 +2,10 @@
 //! plan checked by the independent validator, determinism, and the two implementations of the
 //! relaxed heuristic (lifted and ground) checked against each other.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
-use kbc::cli::FsLoader;
 use kbc::driver::{self, Frontend};
 use kbc::engine::Machine;
 use kbc::ir::plan::Plan;
@@ -17,17 +18,7 @@ use kbc::source::SourceDb;
 use kbc::validate::{self, PlanStep};
 
 fn load(paths: &[&str]) -> Frontend {
-    let mut db = SourceDb::new();
-    let roots: Vec<_> = paths
-        .iter()
-        .map(|p| {
-            let text = std::fs::read_to_string(p).expect("readable file");
-            db.add(p.to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
-        })
-        .collect();
-    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
-    assert!(!frontend.diagnostics.has_errors(), "{paths:?} must check clean");
-    frontend
+    common::load(paths).0
 }
 
 fn problem(frontend: &Frontend, name: &str) -> usize {
@@ -52,11 +43,7 @@ fn assert_valid(frontend: &Frontend, problem: usize, plan: &Plan) {
         plan.steps.iter().map(|s| PlanStep { name: s.name.clone(), span, timing: None }).collect();
     let program = planner::program_for(&frontend.kb, problem);
     let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
-    assert!(
-        !verdict.diagnostics.has_errors(),
-        "invalid plan: {:?}",
-        verdict.diagnostics.iter().map(|d| d.message.clone()).collect::<Vec<_>>()
-    );
+    assert!(!verdict.diagnostics.has_errors(), "invalid plan: {:?}", common::messages(&verdict.diagnostics));
 }
 
 #[test]

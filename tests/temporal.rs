@@ -2,9 +2,10 @@
 //! linearisation is a valid plan, schedules checked by the timed validator, and the STN solver
 //! against Floyd-Warshall on random networks.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
-use kbc::cli::FsLoader;
 use kbc::diag::Diagnostics;
 use kbc::driver::{self, Frontend, Timed};
 use kbc::ir::plan::Plan;
@@ -17,20 +18,6 @@ use kbc::planner::{self, Budget, Options, SearchKind, Silent};
 use kbc::source::SourceDb;
 use kbc::validate::{self, PlanStep};
 use petgraph::graph::DiGraph;
-
-fn load(paths: &[&str]) -> (Frontend, SourceDb) {
-    let mut db = SourceDb::new();
-    let roots: Vec<_> = paths
-        .iter()
-        .map(|p| {
-            let text = std::fs::read_to_string(p).expect("readable file");
-            db.add(p.to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
-        })
-        .collect();
-    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
-    assert!(!frontend.diagnostics.has_errors(), "{paths:?} must check clean");
-    (frontend, db)
-}
 
 /// The plan in a plan file, validated.
 fn plan_file(frontend: &mut Frontend, db: &mut SourceDb, path: &str, problem: usize) -> Plan {
@@ -70,16 +57,12 @@ fn assert_schedule_valid(frontend: &Frontend, timed: &Timed, times: &[i64]) {
         .collect();
     let program = planner::program_for(kb, timed.pop.problem);
     let verdict = validate::validate_timed(kb, &frontend.interner, &program, timed.pop.problem, &steps);
-    assert!(
-        !verdict.diagnostics.has_errors(),
-        "invalid schedule: {:?}",
-        verdict.diagnostics.iter().map(|d| d.message.clone()).collect::<Vec<_>>()
-    );
+    assert!(!verdict.diagnostics.has_errors(), "invalid schedule: {:?}", common::messages(&verdict.diagnostics));
 }
 
 #[test]
 fn the_papers_example_reproduces_its_table_of_achievers() {
-    let (mut frontend, mut db) = load(&["examples/06_partial_order/kb.pl"]);
+    let (mut frontend, mut db) = common::load(&["examples/06_partial_order/kb.pl"]);
     let plan = plan_file(&mut frontend, &mut db, "examples/06_partial_order/plan.txt", 0);
     let timed = timed(&frontend, &plan);
     // The paper's table "List of achievers": a1 [a0], a2 [a1], a3 [a2], a4 [a0], a5 [a4],
@@ -138,14 +121,14 @@ fn assert_linearisations_valid(frontend: &Frontend, plan: &Plan, timed: &Timed, 
         assert!(
             !verdict.diagnostics.has_errors(),
             "linearisation {order:?} of the partial order is not a valid plan: {:?}",
-            verdict.diagnostics.iter().map(|d| d.message.clone()).collect::<Vec<_>>()
+            common::messages(&verdict.diagnostics)
         );
     }
 }
 
 #[test]
 fn every_linearisation_of_a_partial_order_is_a_valid_plan() {
-    let (frontend, _) = load(&["examples/01_paper_tests/tests.pl"]);
+    let (frontend, _) = common::load(&["examples/01_paper_tests/tests.pl"]);
     for problem in 0..frontend.kb.problems.len() {
         let plan = search(&frontend, problem);
         let timed = timed(&frontend, &plan);
@@ -167,7 +150,7 @@ fn every_linearisation_of_a_partial_order_is_a_valid_plan() {
 
 #[test]
 fn the_schedule_runs_arms_in_parallel() {
-    let (frontend, _) = load(&["examples/02_llm_stacking/test_case.pl"]);
+    let (frontend, _) = common::load(&["examples/02_llm_stacking/test_case.pl"]);
     let plan = search(&frontend, 0);
     let timed = timed(&frontend, &plan);
     let sequential: i64 = timed.stn.durations.iter().flatten().map(|b| b.min).sum();
@@ -276,7 +259,7 @@ fn the_stn_solver_agrees_with_floyd_warshall() {
 
 #[test]
 fn improving_the_makespan_never_makes_it_longer() {
-    let (frontend, _) = load(&["examples/02_llm_stacking/test_case.pl"]);
+    let (frontend, _) = common::load(&["examples/02_llm_stacking/test_case.pl"]);
     let mut task = passes::task::build(&frontend.kb, 0);
     let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
     let options = Options {

@@ -8,7 +8,6 @@ use clap::ValueEnum;
 
 use super::{MessageFormat, report};
 use crate::diag::{Diagnostic, Diagnostics};
-use crate::driver;
 use crate::passes;
 use crate::planner;
 use crate::render::pddl::{self, Durations};
@@ -66,22 +65,13 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
     let ExportCommand::Pddl(args) = command;
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
-    let roots = super::read_roots(&args.files, &mut db, &mut diagnostics);
-    let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
-    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
     let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
         report(db, diagnostics, args.message_format, color);
         ExitCode::from(1)
     };
-    if diagnostics.has_errors() {
+    let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
+    let Some((frontend, problem)) = found else {
         return fail(&db, &diagnostics);
-    }
-    let problem = match driver::select_problem(&frontend.kb, &frontend.interner, args.problem.as_deref()) {
-        Ok(problem) => problem,
-        Err(diagnostic) => {
-            diagnostics.push(*diagnostic);
-            return fail(&db, &diagnostics);
-        }
     };
     let program = planner::program_for(&frontend.kb, problem);
     let mut task = passes::task::build(&frontend.kb, problem);

@@ -165,6 +165,29 @@ pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()>
     result
 }
 
+/// What commands that work on one problem start with: read the files, run the front end, pick
+/// the problem (`--problem`). `None` when that failed; the reasons are in `diagnostics`.
+pub(crate) fn frontend_for_problem(
+    files: &[PathBuf],
+    problem: Option<&str>,
+    db: &mut SourceDb,
+    diagnostics: &mut Diagnostics,
+) -> Option<(driver::Frontend, usize)> {
+    let roots = read_roots(files, db, diagnostics);
+    let mut frontend = driver::frontend(db, &roots, &mut FsLoader);
+    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
+    if diagnostics.has_errors() {
+        return None;
+    }
+    match driver::select_problem(&frontend.kb, &frontend.interner, problem) {
+        Ok(problem) => Some((frontend, problem)),
+        Err(diagnostic) => {
+            diagnostics.push(*diagnostic);
+            None
+        }
+    }
+}
+
 /// Reads the command line's files into `db`; unreadable ones become diagnostics.
 pub(crate) fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics) -> Vec<FileId> {
     let mut roots = Vec::new();

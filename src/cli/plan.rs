@@ -151,22 +151,13 @@ impl Progress for TerminalProgress {
 pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
-    let roots = super::read_roots(&args.files, &mut db, &mut diagnostics);
-    let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
-    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
     let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
         report(db, diagnostics, args.message_format, color);
         ExitCode::from(1)
     };
-    if diagnostics.has_errors() {
+    let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
+    let Some((mut frontend, problem)) = found else {
         return fail(&db, &diagnostics);
-    }
-    let problem = match driver::select_problem(&frontend.kb, &frontend.interner, args.problem.as_deref()) {
-        Ok(problem) => problem,
-        Err(diagnostic) => {
-            diagnostics.push(*diagnostic);
-            return fail(&db, &diagnostics);
-        }
     };
     let program = planner::program_for(&frontend.kb, problem);
     // The total-order plans to schedule: read from a file, or found by the search.

@@ -244,14 +244,13 @@ impl Exporter<'_> {
                 schema.valid.iter().chain(schema.invalid.iter()).chain(schema.effects.iter().map(|(_, l)| l));
             let compound = literals.clone().find(|l| l.args.iter().any(|a| matches!(a, Pattern::Compound(..))));
             if let Some(literal) = compound {
-                ok &= self
-                    .error(
-                        literal.span,
-                        "PDDL cannot match inside this argument",
-                        "a compound argument with variables cannot be exported".into(),
-                        "write the compound's parts as arguments of the literal: `at(B, X, Y)` for `at(B, pos(X, Y))`",
-                    )
-                    .is_some();
+                ok = false;
+                self.error(
+                    literal.span,
+                    "PDDL cannot match inside this argument",
+                    "a compound argument with variables cannot be exported".into(),
+                    "write the compound's parts as arguments of the literal: `at(B, X, Y)` for `at(B, pos(X, Y))`",
+                );
                 continue;
             }
             let action = &self.kb.actions[schema.action];
@@ -271,16 +270,14 @@ impl Exporter<'_> {
                 };
                 if !distinct {
                     let span = action.name.span;
-                    ok &= self
-                        .error(
-                            span,
-                            "a constant or a repeated variable here",
-                            "the export needs the arguments of a durative action's name to be distinct variables"
-                                .into(),
-                            "a PDDL durative action has one parameter list for its start and its end; \
+                    ok = false;
+                    self.error(
+                        span,
+                        "a constant or a repeated variable here",
+                        "the export needs the arguments of a durative action's name to be distinct variables".into(),
+                        "a PDDL durative action has one parameter list for its start and its end; \
                              move the constant into a Valid literal or an OnKB goal (`A == a1`)",
-                        )
-                        .is_some();
+                    );
                     continue;
                 }
             }
@@ -473,49 +470,40 @@ impl Exporter<'_> {
             );
             return None;
         }
-        let mut index = vec![0usize; choices.len()];
-        if choices.iter().any(Vec::is_empty) {
-            return Some(()); // nothing reachable can match: the condition always holds
-        }
-        loop {
+        // No combination when a variable has no value: nothing reachable can match, and the
+        // condition always holds.
+        for_each_tuple(&choices, &mut |values| {
             let mut local = vars.clone();
-            for (k, &v) in existential.iter().enumerate() {
-                local[v as usize] = Some(self.object(choices[k][index[k]]));
+            for (&v, &value) in existential.iter().zip(values) {
+                local[v as usize] = Some(self.object(value));
             }
             out.push(self.literal(literal, &local, Some(&complement)));
-            // Next combination.
-            let mut k = 0;
-            loop {
-                if k == index.len() {
-                    return Some(());
-                }
-                index[k] += 1;
-                if index[k] < choices[k].len() {
-                    break;
-                }
-                index[k] = 0;
-                k += 1;
-            }
-        }
+        });
+        Some(())
     }
 
-    /// Effects, with the complements kept in step.
-    fn effects(&mut self, schema: &Schema, vars: &VarNames, when: &str, out: &mut Vec<String>) {
+    /// Effects, with the complements kept in step; each wrapped in `(when ...)` for a durative
+    /// action, bare for an instant.
+    fn effects(&mut self, schema: &Schema, vars: &VarNames, when: Option<&str>, out: &mut Vec<String>) {
+        let timed = |effect: String| match when {
+            Some(when) => format!("({when} {effect})"),
+            None => effect,
+        };
         for (kind, literal) in schema.effects.iter() {
             let atom = self.literal(literal, vars, None);
             let complement = self.complemented.get(&literal.pred).cloned();
             let complement_atom = complement.map(|name| self.literal(literal, vars, Some(&name)));
             match kind {
                 EffectKind::Add => {
-                    out.push(format!("({when} {atom})"));
+                    out.push(timed(atom));
                     if let Some(c) = complement_atom {
-                        out.push(format!("({when} (not {c}))"));
+                        out.push(timed(format!("(not {c})")));
                     }
                 }
                 EffectKind::Del => {
-                    out.push(format!("({when} (not {atom}))"));
+                    out.push(timed(format!("(not {atom})")));
                     if let Some(c) = complement_atom {
-                        out.push(format!("({when} {c})"));
+                        out.push(timed(c));
                     }
                 }
             }
@@ -604,7 +592,8 @@ impl Exporter<'_> {
                             "these goals succeed without binding a variable",
                             "an OnKB goal leaves a variable unbound".into(),
                             "the export lists OnKB solutions as facts, which must be ground; bind every variable",
-                        )?;
+                        );
+                        return None;
                     }
                 }
             }
@@ -905,12 +894,10 @@ impl Exporter<'_> {
             }
             if durative {
                 conditions.extend(local.into_iter().map(|c| format!("({when} {c})")));
-                self.effects(schema, vars, when, &mut effects);
+                self.effects(schema, vars, Some(when), &mut effects);
             } else {
                 conditions.extend(local);
-                let mut instant = Vec::new();
-                self.effects(schema, vars, "at start", &mut instant);
-                effects.extend(instant.into_iter().map(|e| e["(at start ".len()..e.len() - 1].to_string()));
+                self.effects(schema, vars, None, &mut effects);
             }
         }
         let mut text = String::new();
@@ -1120,13 +1107,13 @@ fn bound_vars(schema: &Schema) -> BTreeSet<u32> {
         literal.args.iter().for_each(&mut add);
     }
     for goal in schema.on_kb.iter() {
-        goal.for_each_call(&mut |l| l.term.for_each_var(&mut |v| vars_insert(&mut vars, v.0)));
+        goal.for_each_call(&mut |l| {
+            l.term.for_each_var(&mut |v| {
+                vars.insert(v.0);
+            })
+        });
     }
     vars
-}
-
-fn vars_insert(vars: &mut BTreeSet<u32>, v: u32) {
-    vars.insert(v);
 }
 
 fn pattern_vars(pattern: &Pattern, vars: &mut BTreeSet<u32>) {
