@@ -1,0 +1,96 @@
+//! A loaded, verified program and the tables the VM derives from it once.
+
+use crate::bytecode::{EventId, FluentId, ImportId, Instr, LoadError, Module, NodeRef, Value};
+
+/// A verified program, ready to run. Loading checks the whole file ([`Module::decode`]);
+/// nothing the VM does afterwards can index out of bounds.
+#[derive(Clone, Debug)]
+pub struct Program {
+    pub(crate) module: Module,
+    /// For each event, the node that records it.
+    pub(crate) recorder: Vec<u32>,
+    /// For each node, its debug entry, if any.
+    pub(crate) location: Vec<Option<u32>>,
+    /// The tree's depth (the root at 1).
+    pub(crate) depth: usize,
+}
+
+/// Where a node comes from in the KB, from the debug info.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Location<'p> {
+    /// The snap action's text, e.g. `grip_start(a1, b2)`.
+    pub label: &'p str,
+    /// The KB file.
+    pub file: &'p str,
+    /// Line, from 1.
+    pub line: u32,
+    /// Column, from 1.
+    pub column: u32,
+}
+
+impl Program {
+    /// Reads and verifies a bytecode file.
+    pub fn load(bytes: &[u8]) -> Result<Program, LoadError> {
+        Ok(Program::from_module(Module::decode(bytes)?))
+    }
+
+    /// Wraps a module that came from [`Module::decode`] (or that its encoding would pass).
+    pub(crate) fn from_module(module: Module) -> Program {
+        let mut recorder = vec![0u32; module.events as usize];
+        for (i, node) in module.nodes.iter().enumerate() {
+            if let Instr::Start { event, .. } | Instr::End { event, .. } | Instr::Act { event, .. } = node {
+                recorder[event.0 as usize] = i as u32;
+            }
+        }
+        let mut location = vec![None; module.nodes.len()];
+        if let Some(debug) = &module.debug {
+            for (i, e) in debug.entries.iter().enumerate() {
+                location[e.node.0 as usize] = Some(i as u32);
+            }
+        }
+        let mut depth = 0;
+        let mut stack = vec![(module.root.0 as usize, 1usize)];
+        while let Some((node, d)) = stack.pop() {
+            depth = depth.max(d);
+            stack.extend(Module::children(&module.nodes[node]).iter().map(|c| (c.0 as usize, d + 1)));
+        }
+        Program { module, recorder, location, depth }
+    }
+
+    /// The decoded module: tables and nodes.
+    pub fn module(&self) -> &Module {
+        &self.module
+    }
+
+    /// The name of a host action.
+    pub fn import_name(&self, import: ImportId) -> &str {
+        &self.module.symbols[self.module.imports[import.0 as usize].name as usize]
+    }
+
+    /// The text of an argument.
+    pub fn value_text(&self, value: Value) -> String {
+        self.module.value_text(value)
+    }
+
+    /// The text of a fluent.
+    pub fn fluent_text(&self, fluent: FluentId) -> String {
+        self.module.fluent_text(fluent)
+    }
+
+    /// The node that records `event`.
+    pub fn recorder(&self, event: EventId) -> NodeRef {
+        NodeRef(self.recorder[event.0 as usize])
+    }
+
+    /// Where `node` comes from, if the program keeps debug info for it.
+    pub fn location(&self, node: NodeRef) -> Option<Location<'_>> {
+        let debug = self.module.debug.as_ref()?;
+        let entry = &debug.entries[(*self.location.get(node.0 as usize)?)? as usize];
+        Some(Location {
+            label: &self.module.symbols[entry.label as usize],
+            file: &self.module.symbols[debug.files[entry.file as usize] as usize],
+            line: entry.line,
+            column: entry.column,
+        })
+    }
+}

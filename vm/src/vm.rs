@@ -1,0 +1,546 @@
+//! The tick engine: a behaviour tree run against a [`Host`], one `tick` at a time.
+//!
+//! All state lives in flat vectors allocated by [`Vm::new`]: a status and a cursor per node,
+//! a time per event, a running flag per host action, the blackboard as a bit set, and the
+//! traversal stack (as deep as the tree). A tick walks the tree iteratively from the root,
+//! skipping finished subtrees, so it allocates nothing and cannot overflow the host's stack;
+//! the only allocations after `new` are a failure's reason text, once.
+//!
+//! Node contracts (each is tested tick by tick in `tests/nodes.rs`):
+//!
+//! - **seq**: ticks the current child; on Success moves to the next one in the same tick;
+//!   Running and Failure are its own status. Success when every child has succeeded.
+//! - **par**: ticks, in order, every child that has not succeeded. Failure as soon as one
+//!   fails; Success when all have succeeded; else Running.
+//! - **wait**: Success once every listed event has been recorded and `now` is at least its
+//!   time plus the delay; Running before (and the VM's next deadline is the earliest such time).
+//! - **start**: checks its conditions on the blackboard, applies its effects, asks the host to
+//!   start the action and records its event at `now`: Success in one tick. Failure if a
+//!   condition fails or the host refuses.
+//! - **end**: waits for its start's event, then polls the host: Running while the action
+//!   runs; Failure if the host reports failure or the action runs past its greatest duration
+//!   (the host action is halted); once the host reports success and the least duration has
+//!   passed, checks its conditions, applies its effects, records its event: Success.
+//! - **act**: an instantaneous action: checks, starts, polls until the host reports back,
+//!   then applies its effects and records its event.
+//!
+//! Any Failure reaches the root (no node recovers from one); the VM then halts every host
+//! action still running and stays in Failure until [`Vm::reset`].
+
+use crate::bytecode::{Check, Effect, EventId, FluentId, ImportId, Instr, NodeRef, Value};
+use crate::program::Program;
+
+/// What a tick returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Not finished: tick again.
+    Running,
+    /// The whole tree succeeded.
+    Success,
+    /// A node failed; [`Vm::failure`] says which and why.
+    Failure,
+}
+
+/// What the host says of an action it runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Poll {
+    /// Still going.
+    Running,
+    /// Done.
+    Success,
+    /// Failed, with the reason.
+    Failure(String),
+}
+
+/// An action the VM asks the host to start, poll or halt.
+#[derive(Clone, Copy, Debug)]
+pub struct Invocation<'p> {
+    /// Identifies this action instance: the event of its start node.
+    pub id: EventId,
+    /// The import table entry.
+    pub import: ImportId,
+    /// The action's name.
+    pub name: &'p str,
+    /// Its ground arguments (atoms as symbols: see [`Invocation::arg_text`]).
+    pub args: &'p [Value],
+    /// Its least duration in program time units (0 for an instantaneous action).
+    pub min: i64,
+    /// Its greatest duration, if bounded.
+    pub max: Option<i64>,
+    program: &'p Program,
+}
+
+impl Invocation<'_> {
+    /// The text of argument `i`.
+    pub fn arg_text(&self, i: usize) -> String {
+        self.args.get(i).map_or_else(String::new, |&v| self.program.value_text(v))
+    }
+
+    /// The call as text: `move_block(a1, b2, 1, 1, 3, 3)`.
+    pub fn text(&self) -> String {
+        if self.args.is_empty() {
+            return self.name.to_string();
+        }
+        let args: Vec<String> = (0..self.args.len()).map(|i| self.arg_text(i)).collect();
+        format!("{}({})", self.name, args.join(", "))
+    }
+}
+
+/// The robot side: runs the actions the tree starts. Times are program time units.
+pub trait Host {
+    /// Starts `action`; an error refuses it (its node fails with the message).
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String>;
+    /// Reports on an action started earlier.
+    fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll;
+    /// Stops an action started earlier that is no longer wanted.
+    fn halt(&mut self, action: &Invocation<'_>, now: i64);
+}
+
+/// Why a node failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Reason {
+    /// A fluent the node requires does not hold on the blackboard.
+    Missing(FluentId),
+    /// A fluent the node forbids holds.
+    Forbidden(FluentId),
+    /// None of a group of fluents holds (the group's first is given).
+    NoneHolds(FluentId),
+    /// The host refused to start the action.
+    Refused(String),
+    /// The host reported the action failed.
+    HostFailed(String),
+    /// The action ran longer than its greatest duration.
+    Overran {
+        /// The greatest duration.
+        max: i64,
+    },
+    /// The tick visited more nodes than its budget.
+    Budget,
+    /// [`Vm::halt`] stopped the tree.
+    Halted,
+}
+
+/// A failed node and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    /// The node.
+    pub node: NodeRef,
+    /// When.
+    pub time: i64,
+    /// Why.
+    pub reason: Reason,
+}
+
+impl Failure {
+    /// A sentence for people: the node, the reason, and the KB location if known.
+    pub fn describe(&self, program: &Program) -> String {
+        let what = match &self.reason {
+            Reason::Missing(f) => format!("`{}` does not hold", program.fluent_text(*f)),
+            Reason::Forbidden(f) => format!("`{}` holds, and the action forbids it", program.fluent_text(*f)),
+            Reason::NoneHolds(f) => format!("no fact like `{}` holds", program.fluent_text(*f)),
+            Reason::Refused(m) => format!("the host refused to start it: {m}"),
+            Reason::HostFailed(m) => format!("the host reports it failed: {m}"),
+            Reason::Overran { max } => format!("it ran longer than its greatest duration ({max} time units)"),
+            Reason::Budget => "the tick ran out of its node budget".to_string(),
+            Reason::Halted => "the tree was halted".to_string(),
+        };
+        match program.location(self.node) {
+            Some(at) => {
+                format!("{} failed at time {}: {what} ({}:{}:{})", at.label, self.time, at.file, at.line, at.column)
+            }
+            None => format!("node @{} failed at time {}: {what}", self.node.0, self.time),
+        }
+    }
+}
+
+const IDLE: u8 = 0;
+const SUCCEEDED: u8 = 2;
+const FAILED: u8 = 3;
+/// An event not yet recorded.
+const NEVER: i64 = i64::MIN;
+
+#[derive(Clone, Copy)]
+struct Frame {
+    node: u32,
+    /// For a parallel: the child being ticked.
+    next: u32,
+    /// For a parallel: a child returned Running this tick.
+    running: bool,
+}
+
+/// A running behaviour tree.
+pub struct Vm<'p> {
+    program: &'p Program,
+    status: Vec<u8>,
+    /// Sequence: the current child; end and act: 1 once the host reported success.
+    cursor: Vec<u32>,
+    event_time: Vec<i64>,
+    /// Per event of a start or act node: its host action is running.
+    running: Vec<bool>,
+    blackboard: Vec<u64>,
+    initial: Vec<u64>,
+    stack: Vec<Frame>,
+    budget: usize,
+    finished: Option<Status>,
+    failure: Option<Failure>,
+    deadline: Option<i64>,
+    /// How many events have been recorded since the start.
+    recorded: usize,
+}
+
+impl<'p> Vm<'p> {
+    /// A VM at the start of `program`: nothing ticked, the blackboard at the initial state.
+    pub fn new(program: &'p Program) -> Vm<'p> {
+        let m = &program.module;
+        let mut initial = vec![0u64; m.fluents.len().div_ceil(64)];
+        for (i, f) in m.fluents.iter().enumerate() {
+            if f.initial {
+                initial[i / 64] |= 1 << (i % 64);
+            }
+        }
+        Vm {
+            program,
+            status: vec![IDLE; m.nodes.len()],
+            cursor: vec![0; m.nodes.len()],
+            event_time: vec![NEVER; m.events as usize],
+            running: vec![false; m.events as usize],
+            blackboard: initial.clone(),
+            initial,
+            stack: Vec::with_capacity(program.depth + 1),
+            budget: m.nodes.len(),
+            finished: None,
+            failure: None,
+            deadline: None,
+            recorded: 0,
+        }
+    }
+
+    /// Limits how many nodes one tick may visit (default: every node, which a tree never
+    /// exceeds). A tick over budget fails the tree with [`Reason::Budget`].
+    pub fn set_tick_budget(&mut self, nodes: usize) {
+        self.budget = nodes;
+    }
+
+    /// Ticks the tree at time `now` (program time units, never decreasing).
+    pub fn tick(&mut self, host: &mut dyn Host, now: i64) -> Status {
+        if let Some(status) = self.finished {
+            return status;
+        }
+        let program: &'p Program = self.program;
+        let nodes = &program.module.nodes;
+        self.deadline = None;
+        self.stack.clear();
+        self.stack.push(Frame { node: program.module.root.0, next: 0, running: false });
+        let mut visits = 0usize;
+        let mut returned: Option<Status> = None;
+        while let Some(frame) = self.stack.last_mut() {
+            let node = frame.node as usize;
+            if returned.is_none() {
+                visits += 1;
+                if visits > self.budget {
+                    returned = Some(self.fail(node, now, Reason::Budget));
+                    break;
+                }
+            }
+            match &nodes[node] {
+                Instr::Sequence { children } => {
+                    match returned.take() {
+                        Some(Status::Success) => self.cursor[node] += 1,
+                        Some(other) => {
+                            if other == Status::Failure {
+                                self.status[node] = FAILED;
+                            }
+                            self.stack.pop();
+                            returned = Some(other);
+                            continue;
+                        }
+                        None => {}
+                    }
+                    match children.get(self.cursor[node] as usize) {
+                        Some(child) => self.stack.push(Frame { node: child.0, next: 0, running: false }),
+                        None => {
+                            self.status[node] = SUCCEEDED;
+                            self.stack.pop();
+                            returned = Some(Status::Success);
+                        }
+                    }
+                }
+                Instr::Parallel { children } => {
+                    match returned.take() {
+                        Some(Status::Failure) => {
+                            self.status[node] = FAILED;
+                            self.stack.pop();
+                            returned = Some(Status::Failure);
+                            continue;
+                        }
+                        Some(Status::Running) => {
+                            frame.running = true;
+                            frame.next += 1;
+                        }
+                        Some(Status::Success) => frame.next += 1,
+                        None => {}
+                    }
+                    let mut i = frame.next as usize;
+                    while i < children.len() && self.status[children[i].0 as usize] == SUCCEEDED {
+                        i += 1;
+                    }
+                    frame.next = i as u32;
+                    if i == children.len() {
+                        let running = frame.running;
+                        self.stack.pop();
+                        if !running {
+                            self.status[node] = SUCCEEDED;
+                        }
+                        returned = Some(if running { Status::Running } else { Status::Success });
+                    } else {
+                        let child = children[i].0;
+                        self.stack.push(Frame { node: child, next: 0, running: false });
+                    }
+                }
+                leaf => {
+                    let status = self.tick_leaf(node, leaf, host, now);
+                    self.stack.pop();
+                    returned = Some(status);
+                }
+            }
+        }
+        let status = returned.unwrap_or(Status::Failure);
+        if status != Status::Running {
+            self.finished = Some(status);
+            if status == Status::Failure {
+                self.halt_actions(host, now);
+            }
+        }
+        status
+    }
+
+    fn tick_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
+        match instr {
+            Instr::Wait { after } => {
+                for delay in after {
+                    let t = self.event_time[delay.event.0 as usize];
+                    if t == NEVER {
+                        return Status::Running;
+                    }
+                    let ready = t.saturating_add(delay.after.0);
+                    if now < ready {
+                        self.wake_at(ready);
+                        return Status::Running;
+                    }
+                }
+                self.status[node] = SUCCEEDED;
+                Status::Success
+            }
+            Instr::Start { event, check, effects, .. } => {
+                if let Err(reason) = self.check(check) {
+                    return self.fail(node, now, reason);
+                }
+                self.apply(effects);
+                let invocation = self.invocation(node);
+                if let Err(message) = host.start(&invocation, now) {
+                    return self.fail(node, now, Reason::Refused(message));
+                }
+                self.event_time[event.0 as usize] = now;
+                self.recorded += 1;
+                self.running[event.0 as usize] = true;
+                self.status[node] = SUCCEEDED;
+                Status::Success
+            }
+            Instr::End { event, start, check, effects } => {
+                let started = self.event_time[start.0 as usize];
+                if started == NEVER {
+                    return Status::Running; // its start has not happened yet
+                }
+                let starter = self.program.recorder[start.0 as usize] as usize;
+                let (min, max) = match &self.program.module.nodes[starter] {
+                    Instr::Start { min, max, .. } => (min.0, max.0),
+                    _ => (0, None),
+                };
+                if self.cursor[node] == 0 {
+                    let invocation = self.invocation(starter);
+                    let overran = |now: i64| max.filter(|&m| now > started.saturating_add(m));
+                    match host.poll(&invocation, now) {
+                        Poll::Running => {
+                            if let Some(max) = overran(now) {
+                                host.halt(&invocation, now);
+                                self.running[start.0 as usize] = false;
+                                return self.fail(node, now, Reason::Overran { max });
+                            }
+                            if let Some(max) = max {
+                                self.wake_at(started.saturating_add(max).saturating_add(1));
+                            }
+                            return Status::Running;
+                        }
+                        Poll::Failure(message) => {
+                            self.running[start.0 as usize] = false;
+                            return self.fail(node, now, Reason::HostFailed(message));
+                        }
+                        Poll::Success => {
+                            self.running[start.0 as usize] = false;
+                            if let Some(max) = overran(now) {
+                                return self.fail(node, now, Reason::Overran { max });
+                            }
+                            self.cursor[node] = 1;
+                        }
+                    }
+                }
+                let earliest = started.saturating_add(min);
+                if now < earliest {
+                    self.wake_at(earliest);
+                    return Status::Running;
+                }
+                if let Err(reason) = self.check(check) {
+                    return self.fail(node, now, reason);
+                }
+                self.apply(effects);
+                self.event_time[event.0 as usize] = now;
+                self.recorded += 1;
+                self.status[node] = SUCCEEDED;
+                Status::Success
+            }
+            Instr::Act { event, check, effects, .. } => {
+                let invocation = self.invocation(node);
+                if self.cursor[node] == 0 {
+                    if let Err(reason) = self.check(check) {
+                        return self.fail(node, now, reason);
+                    }
+                    if let Err(message) = host.start(&invocation, now) {
+                        return self.fail(node, now, Reason::Refused(message));
+                    }
+                    self.running[event.0 as usize] = true;
+                    self.cursor[node] = 1;
+                }
+                match host.poll(&invocation, now) {
+                    Poll::Running => Status::Running,
+                    Poll::Failure(message) => {
+                        self.running[event.0 as usize] = false;
+                        self.fail(node, now, Reason::HostFailed(message))
+                    }
+                    Poll::Success => {
+                        self.running[event.0 as usize] = false;
+                        self.apply(effects);
+                        self.event_time[event.0 as usize] = now;
+                        self.recorded += 1;
+                        self.status[node] = SUCCEEDED;
+                        Status::Success
+                    }
+                }
+            }
+            Instr::Sequence { .. } | Instr::Parallel { .. } => Status::Failure, // not leaves
+        }
+    }
+
+    /// The host call of the start or act node `node`.
+    fn invocation(&self, node: usize) -> Invocation<'p> {
+        let program: &'p Program = self.program;
+        let (id, import, args, min, max) = match &program.module.nodes[node] {
+            Instr::Start { event, import, args, min, max, .. } => (*event, *import, &args[..], min.0, max.0),
+            Instr::Act { event, import, args, .. } => (*event, *import, &args[..], 0, None),
+            _ => (EventId(0), ImportId(0), &[][..], 0, None),
+        };
+        Invocation { id, import, name: program.import_name(import), args, min, max, program }
+    }
+
+    fn holds(&self, fluent: FluentId) -> bool {
+        let i = fluent.0 as usize;
+        self.blackboard[i / 64] & (1 << (i % 64)) != 0
+    }
+
+    fn check(&self, check: &Check) -> Result<(), Reason> {
+        if let Some(&f) = check.require.iter().find(|&&f| !self.holds(f)) {
+            return Err(Reason::Missing(f));
+        }
+        if let Some(&f) = check.forbid.iter().find(|&&f| self.holds(f)) {
+            return Err(Reason::Forbidden(f));
+        }
+        if let Some(group) = check.any.iter().find(|g| !g.iter().any(|&f| self.holds(f))) {
+            return Err(Reason::NoneHolds(group.first().copied().unwrap_or(FluentId(0))));
+        }
+        Ok(())
+    }
+
+    fn apply(&mut self, effects: &[Effect]) {
+        for effect in effects {
+            let i = effect.fluent.0 as usize;
+            if effect.add {
+                self.blackboard[i / 64] |= 1 << (i % 64);
+            } else {
+                self.blackboard[i / 64] &= !(1 << (i % 64));
+            }
+        }
+    }
+
+    fn wake_at(&mut self, time: i64) {
+        self.deadline = Some(self.deadline.map_or(time, |d| d.min(time)));
+    }
+
+    fn fail(&mut self, node: usize, now: i64, reason: Reason) -> Status {
+        self.status[node] = FAILED;
+        if self.failure.is_none() {
+            self.failure = Some(Failure { node: NodeRef(node as u32), time: now, reason });
+        }
+        Status::Failure
+    }
+
+    fn halt_actions(&mut self, host: &mut dyn Host, now: i64) {
+        for event in 0..self.running.len() {
+            if std::mem::replace(&mut self.running[event], false) {
+                let node = self.program.recorder[event] as usize;
+                let invocation = self.invocation(node);
+                host.halt(&invocation, now);
+            }
+        }
+    }
+
+    /// Stops the tree: halts every host action still running; the VM stays in Failure
+    /// ([`Reason::Halted`]) until [`Vm::reset`].
+    pub fn halt(&mut self, host: &mut dyn Host, now: i64) {
+        self.halt_actions(host, now);
+        if self.finished.is_none() {
+            self.finished = Some(Status::Failure);
+            let root = self.program.module.root.0 as usize;
+            self.fail(root, now, Reason::Halted);
+        }
+    }
+
+    /// Back to the start: every node idle, no event recorded, the blackboard at the initial
+    /// state. Host actions still running are forgotten, not halted: call [`Vm::halt`] first.
+    pub fn reset(&mut self) {
+        self.status.fill(IDLE);
+        self.cursor.fill(0);
+        self.event_time.fill(NEVER);
+        self.running.fill(false);
+        self.blackboard.copy_from_slice(&self.initial);
+        self.finished = None;
+        self.failure = None;
+        self.deadline = None;
+        self.recorded = 0;
+    }
+
+    /// How many events (snap actions) have happened: a host that sees this change after a
+    /// tick ticks again at the same time, since other nodes may be waiting for them.
+    pub fn events_recorded(&self) -> usize {
+        self.recorded
+    }
+
+    /// The failed node and the reason, once the tree has failed.
+    pub fn failure(&self) -> Option<&Failure> {
+        self.failure.as_ref()
+    }
+
+    /// The earliest time after the last tick at which a wait or a duration bound changes
+    /// something (host actions finishing aside): a host with virtual time can jump there.
+    pub fn next_deadline(&self) -> Option<i64> {
+        self.deadline
+    }
+
+    /// When `event` was recorded, if it has been.
+    pub fn event_time(&self, event: EventId) -> Option<i64> {
+        self.event_time.get(event.0 as usize).copied().filter(|&t| t != NEVER)
+    }
+
+    /// True if `fluent` holds on the blackboard.
+    pub fn fluent_holds(&self, fluent: FluentId) -> bool {
+        (fluent.0 as usize) < self.program.module.fluents.len() && self.holds(fluent)
+    }
+}
