@@ -13,9 +13,11 @@
 
 pub mod builtins;
 pub mod cli;
+pub mod codegen;
 pub mod diag;
 pub mod driver;
 pub mod engine;
+pub mod execute;
 pub mod intern;
 pub mod ir;
 pub mod ladder;

@@ -234,6 +234,38 @@ fn a_given_plan_is_checked_then_scheduled() {
 }
 
 #[test]
+fn the_schedule_dump_gives_latest_times_and_slack() {
+    let args = ["plan", "examples/06_partial_order/kb.pl", "--plan", "examples/06_partial_order/plan.txt"];
+    let out = kbc(&[&args[..], &["--dump-after", "schedule"]].concat());
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let slack = |step: &str| {
+        let line = text.lines().find(|l| l.starts_with(step)).unwrap_or_else(|| panic!("{step}: {text}"));
+        line.rsplit(' ').next().expect("a slack").to_string()
+    };
+    // The second arm's chain is the critical path; the first arm's may slip by its difference.
+    assert_eq!(slack("a7 "), "0.000", "{text}");
+    assert_eq!(slack("a8 "), "0.000", "{text}");
+    assert_eq!(slack("a1 "), "2.001", "{text}");
+}
+
+#[test]
+fn the_minimal_network_bounds_every_pair_of_time_points() {
+    let args = ["plan", "examples/06_partial_order/kb.pl", "--plan", "examples/06_partial_order/plan.txt"];
+    let out = kbc(&[&args[..], &["--dump-after", "minimal"]].concat());
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let pairs: Vec<&str> = text.lines().filter(|l| !l.starts_with('%') && l.ends_with(']')).collect();
+    assert_eq!(pairs.len(), 9 * 8 / 2, "every pair of the 9 time points once: {text}");
+    // a1 starts the grip that a2 ends: its duration, [1, 2] time units.
+    assert!(pairs.contains(&"a1 a2 [1000, 2000]"), "{text}");
+    // The second arm's chain (a4 onwards) is not ordered against the first arm's start.
+    assert!(pairs.contains(&"a1 a4 [-inf, inf]"), "{text}");
+    // The first arm's move ends at least its minimum (4 units on this path) after the grip starts.
+    assert!(pairs.contains(&"a1 a8 [4000, inf]"), "{text}");
+}
+
+#[test]
 fn pictures_of_the_partial_order_the_stn_and_the_schedule() {
     let pop = kbc(&["plan", "examples/06_partial_order/kb.pl", "--emit", "pop-dot"]);
     assert_eq!(pop.status.code(), Some(0), "{}", stderr(&pop));
@@ -263,4 +295,38 @@ fn pictures_of_the_partial_order_the_stn_and_the_schedule() {
         Some(2),
         "-o needs --emit"
     );
+}
+
+#[test]
+fn build_disasm_and_run_a_program() {
+    let kb = "examples/02_llm_stacking/test_case.pl";
+    let dir = std::env::temp_dir().join(format!("kbc-cli-build-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("writable");
+    let path = dir.join("plan.kbb");
+    let path_str = path.to_str().expect("UTF-8 path");
+    let out = kbc(&["build", kb, "-o", path_str]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let first = std::fs::read(&path).expect("written");
+    assert_eq!(kbc(&["build", kb, "-o", path_str]).status.code(), Some(0));
+    assert_eq!(first, std::fs::read(&path).expect("written"), "byte-identical across runs");
+    let listing = kbc(&["disasm", path_str]);
+    assert_eq!(listing.status.code(), Some(0), "{}", stderr(&listing));
+    assert!(stdout(&listing).contains("start event=e0 import=grip/2 args=[a1, b1]"), "{}", stdout(&listing));
+    let run = kbc(&["run", path_str]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(stdout(&run).contains("% success at 22.001"), "{}", stdout(&run));
+    let xml = kbc(&["build", kb, "--emit", "bt-xml"]);
+    let xml = stdout(&xml);
+    assert!(xml.contains("<root BTCPP_format=\"4\""), "{xml}");
+    assert!(xml.contains("<Action ID=\"grip_start\">"), "the model declares every node type: {xml}");
+    assert_eq!(xml.matches("<Sequence>").count(), xml.matches("</Sequence>").count());
+    // Bytecode needs a file; a corrupted one is E0501.
+    assert_eq!(kbc(&["build", kb]).status.code(), Some(2));
+    let mut corrupted = first.clone();
+    corrupted[4] = 77;
+    std::fs::write(&path, &corrupted).expect("writable");
+    let bad = kbc(&["run", path_str]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(stderr(&bad).contains("error[E0501]") && stderr(&bad).contains("format version 77"), "{}", stderr(&bad));
 }

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::{search, timed};
+
 use std::time::{Duration, Instant};
 
 use kbc::diag::Diagnostics;
@@ -30,20 +32,6 @@ fn plan_file(frontend: &mut Frontend, db: &mut SourceDb, path: &str, problem: us
     let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
     assert!(!verdict.diagnostics.has_errors(), "the plan file is valid");
     verdict.plan
-}
-
-fn search(frontend: &Frontend, problem: usize) -> Plan {
-    let mut task = passes::task::build(&frontend.kb, problem);
-    let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
-    let options = Options { search: SearchKind::Heuristic, max_depth: None, budget, plans: 1, improve: None };
-    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
-    outcome.result.expect("a plan")
-}
-
-fn timed(frontend: &Frontend, plan: &Plan) -> Timed {
-    let program = planner::program_for(&frontend.kb, plan.problem);
-    let mut diags = Diagnostics::new();
-    driver::schedule(&frontend.kb, &frontend.interner, &program, plan, &mut diags).expect("a consistent network")
 }
 
 /// The schedule as a timed plan, replayed by the timed validator.
@@ -162,11 +150,13 @@ fn the_schedule_runs_arms_in_parallel() {
     assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
 }
 
-/// Floyd-Warshall on a distance graph: `None` if there is a negative cycle, else the earliest
-/// time of every point (minus its shortest distance to the origin).
-fn floyd_warshall_earliest(stn: &Stn) -> Option<Vec<i64>> {
+/// No path in [`floyd_warshall`]'s matrix.
+const INF: i64 = i64::MAX / 4;
+
+/// Floyd-Warshall on a distance graph: `None` if there is a negative cycle, else the shortest
+/// distance between every pair of nodes, by node index ([`INF`] where there is no path).
+fn floyd_warshall(stn: &Stn) -> Option<Vec<Vec<i64>>> {
     let n = stn.graph.node_count();
-    const INF: i64 = i64::MAX / 4;
     let mut d = vec![vec![INF; n]; n];
     for (i, row) in d.iter_mut().enumerate() {
         row[i] = 0;
@@ -190,6 +180,12 @@ fn floyd_warshall_earliest(stn: &Stn) -> Option<Vec<i64>> {
     if (0..n).any(|i| d[i][i] < 0) {
         return None;
     }
+    Some(d)
+}
+
+/// The earliest time of every point: minus its shortest distance to the origin.
+fn floyd_warshall_earliest(stn: &Stn) -> Option<Vec<i64>> {
+    let d = floyd_warshall(stn)?;
     let origin = stn.origin.index();
     Some(stn.nodes.iter().map(|node| -d[node.index()][origin]).collect())
 }
@@ -255,6 +251,28 @@ fn the_stn_solver_agrees_with_floyd_warshall() {
         }
     }
     assert!(consistent > 50 && inconsistent > 20, "{consistent} consistent, {inconsistent} inconsistent");
+}
+
+#[test]
+fn the_minimal_network_agrees_with_floyd_warshall() {
+    let mut checked = 0;
+    for seed in 0..300 {
+        let stn = random_stn(2 + (seed as usize % 25), seed);
+        let (Ok(schedule), Some(d)) = (passes::schedule::solve(&stn), floyd_warshall(&stn)) else {
+            continue;
+        };
+        let network = passes::schedule::MinimalNetwork::new(&stn, &schedule);
+        for x in 0..stn.len() {
+            let (later, earlier) = network.row(x);
+            for y in 0..stn.len() {
+                let expect = |d: i64| (d < INF).then_some(d);
+                assert_eq!(later[y], expect(d[x][y]), "seed {seed}: t({y}) - t({x}) at most");
+                assert_eq!(earlier[y], expect(d[y][x]), "seed {seed}: t({x}) - t({y}) at most");
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked > 50, "only {checked} consistent networks");
 }
 
 #[test]

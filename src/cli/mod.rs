@@ -19,6 +19,7 @@ use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
 use crate::syntax::printer;
 
 mod bench;
+mod build;
 mod export;
 mod plan;
 mod validate;
@@ -62,6 +63,20 @@ enum Command {
     /// time budget, validates every plan, and prints plan length, makespan, states expanded,
     /// time and the paper/heuristic time ratio. `--write DIR` writes the goal files instead.
     Bench(bench::BenchArgs),
+    /// Compile a problem into behaviour-tree bytecode for the VM.
+    ///
+    /// Plans and schedules the problem like `kbc plan`, turns the schedule into a behaviour
+    /// tree (sequences, parallels, waits for synchronisation) and writes it as verified
+    /// bytecode (`-o plan.kbb`), or as BehaviorTree.CPP v4 XML or Graphviz with `--emit`.
+    Build(build::BuildArgs),
+    /// Run a program on a host: a bytecode file, or KB files planned and built first.
+    ///
+    /// Ticks the behaviour tree in virtual time and prints the timeline. With KB files, the
+    /// executed timeline is replayed by the timed validator. Exits with 0 when the tree
+    /// succeeds.
+    Run(build::RunArgs),
+    /// Print a readable listing of a bytecode file.
+    Disasm(build::DisasmArgs),
     /// Write a problem of the KB for other tools (PDDL 2.1).
     #[command(subcommand)]
     Export(export::ExportCommand),
@@ -121,6 +136,9 @@ pub fn main() -> ExitCode {
         Command::Validate(args) => validate::run(args, color),
         Command::Bench(args) => bench::run(args),
         Command::Export(command) => export::run(command, color),
+        Command::Build(args) => build::build(args, color),
+        Command::Run(args) => build::run(args, color),
+        Command::Disasm(args) => build::disasm(args, color),
         Command::Explain { code } => explain(&code),
     }
 }

@@ -26,46 +26,84 @@ use crate::render;
 use crate::source::SourceDb;
 use crate::validate;
 
+/// What finding and scheduling a plan needs; `kbc plan` and `kbc build` share it.
 #[derive(clap::Args)]
-pub(super) struct PlanArgs {
+pub(super) struct PlanningArgs {
     /// KB and goal files.
     #[arg(required = true, value_name = "FILE")]
-    files: Vec<PathBuf>,
+    pub(super) files: Vec<PathBuf>,
     /// The problem to plan, when the files define several.
     #[arg(long, value_name = "NAME")]
-    problem: Option<String>,
+    pub(super) problem: Option<String>,
     /// The search: the paper's depth-first search, or best-first with a heuristic.
     #[arg(long, value_enum, default_value_t = SearchArg::Heuristic)]
-    search: SearchArg,
+    pub(super) search: SearchArg,
     /// The paper's depth limit, in snap actions (default: the problem's go/5 value, else 25).
     #[arg(long, value_name = "N")]
-    max_depth: Option<u32>,
+    pub(super) max_depth: Option<u32>,
     /// Give up after expanding this many states.
     #[arg(long, value_name = "N", default_value_t = 1_000_000)]
-    max_states: u64,
+    pub(super) max_states: u64,
     /// Give up after this many seconds.
     #[arg(long, value_name = "SECONDS")]
-    timeout: Option<f64>,
+    pub(super) timeout: Option<f64>,
     /// Give up when the stored states exceed this many megabytes.
     #[arg(long, value_name = "MB", default_value_t = 2048)]
-    max_memory: u64,
+    pub(super) max_memory: u64,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    pub(super) message_format: MessageFormat,
+    /// Schedule this total-order plan (a plan file, as `kbc plan` prints them) instead of
+    /// searching for one.
+    #[arg(long, value_name = "FILE")]
+    pub(super) plan: Option<PathBuf>,
+    /// When a plan cannot be scheduled (its durations and orderings contradict each other),
+    /// ask the search for up to this many other plans.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub(super) retries: u32,
+    /// After the first plan, go on searching for this many seconds for plans with a shorter
+    /// makespan, and keep the best (heuristic search).
+    #[arg(long, value_name = "SECONDS")]
+    pub(super) improve: Option<f64>,
+}
+
+impl PlanningArgs {
+    /// The defaults, as `kbc plan FILES [--problem NAME]` would use them.
+    pub(super) fn for_files(
+        files: Vec<PathBuf>,
+        problem: Option<String>,
+        message_format: MessageFormat,
+    ) -> PlanningArgs {
+        PlanningArgs {
+            files,
+            problem,
+            search: SearchArg::Heuristic,
+            max_depth: None,
+            max_states: 1_000_000,
+            timeout: None,
+            max_memory: 2048,
+            message_format,
+            plan: None,
+            retries: 0,
+            improve: None,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+pub(super) struct PlanArgs {
+    #[command(flatten)]
+    planning: PlanningArgs,
     /// Print the state after each step.
     #[arg(long)]
     trace: bool,
     /// The output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
     format: OutputFormat,
-    /// How to print diagnostics.
-    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
-    message_format: MessageFormat,
     /// Print an intermediate representation on stdout first: the planning task, the
     /// partial-order plan (with the achievers of every step), the STN, or the schedule.
     #[arg(long, value_enum, value_name = "PASS")]
     dump_after: Option<PlanDump>,
-    /// Schedule this total-order plan (a plan file, as `kbc plan` prints them) instead of
-    /// searching for one.
-    #[arg(long, value_name = "FILE")]
-    plan: Option<PathBuf>,
     /// Print the timed plan, in the PDDL 2.1 plan format, instead of the total order.
     #[arg(long)]
     schedule: bool,
@@ -76,14 +114,6 @@ pub(super) struct PlanArgs {
     /// Where `--emit` writes (default: stdout).
     #[arg(short, long, value_name = "FILE", requires = "emit")]
     output: Option<PathBuf>,
-    /// When a plan cannot be scheduled (its durations and orderings contradict each other),
-    /// ask the search for up to this many other plans.
-    #[arg(long, value_name = "N", default_value_t = 0)]
-    retries: u32,
-    /// After the first plan, go on searching for this many seconds for plans with a shorter
-    /// makespan, and keep the best (heuristic search).
-    #[arg(long, value_name = "SECONDS")]
-    improve: Option<f64>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -94,8 +124,11 @@ enum PlanDump {
     Pop,
     /// The simple temporal network.
     Stn,
-    /// The earliest-start schedule.
+    /// The schedule: each snap action's earliest and latest time and its slack.
     Schedule,
+    /// The minimal network: the tightest bounds the STN implies between every pair of time
+    /// points (all-pairs shortest paths; its size grows with the square of the plan's).
+    Minimal,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -109,7 +142,7 @@ enum Emit {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum SearchArg {
+pub(super) enum SearchArg {
     /// The paper's Algorithm 1: depth-first in clause order with a depth limit.
     Paper,
     /// Greedy best-first search guided by h_FF.
@@ -148,7 +181,25 @@ impl Progress for TerminalProgress {
     }
 }
 
-pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
+/// A plan found (or read), checked and scheduled, with everything that made it.
+pub(super) struct Planned {
+    pub(super) db: SourceDb,
+    pub(super) diagnostics: Diagnostics,
+    pub(super) frontend: driver::Frontend,
+    pub(super) problem: usize,
+    /// Every plan found; `index` is the one kept.
+    pub(super) plans: Vec<Plan>,
+    pub(super) index: usize,
+    pub(super) timed: driver::Timed,
+    /// Where the plan came from, for the output's first line.
+    pub(super) origin: String,
+    pub(super) stats: Option<Stats>,
+    pub(super) task: crate::ir::task::Task,
+}
+
+/// Runs the front end, finds (or reads and checks) a plan and schedules it; on failure the
+/// diagnostics are already printed and the exit status is returned.
+pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: bool) -> Result<Planned, ExitCode> {
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
     let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
@@ -157,23 +208,23 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
     };
     let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
     let Some((mut frontend, problem)) = found else {
-        return fail(&db, &diagnostics);
+        return Err(fail(&db, &diagnostics));
     };
     let program = planner::program_for(&frontend.kb, problem);
     // The total-order plans to schedule: read from a file, or found by the search.
-    let (plans, origin, stats, mut task) = match &args.plan {
+    let (plans, origin, stats, task) = match &args.plan {
         Some(path) => {
             let plan_file = super::read_roots(std::slice::from_ref(path), &mut db, &mut diagnostics);
-            let Some(&file) = plan_file.first() else { return fail(&db, &diagnostics) };
+            let Some(&file) = plan_file.first() else { return Err(fail(&db, &diagnostics)) };
             let text = db.file(file).text_arc();
             let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
             if diagnostics.has_errors() {
-                return fail(&db, &diagnostics);
+                return Err(fail(&db, &diagnostics));
             }
             let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
             diagnostics.extend(verdict.diagnostics);
             if diagnostics.has_errors() {
-                return fail(&db, &diagnostics);
+                return Err(fail(&db, &diagnostics));
             }
             let task = passes::task::build(&frontend.kb, problem);
             (vec![verdict.plan], format!("plan file {}", path.display()), None, task)
@@ -184,7 +235,7 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                 crate::ir::task::verify(&task)
                     .unwrap_or_else(|e| panic!("internal compiler error: the task verifier failed: {e}"));
             }
-            if let Some(PlanDump::Task) = args.dump_after {
+            if dump_task {
                 let text = crate::ir::task::print(&frontend.interner, &frontend.kb, &task);
                 let _ = std::io::stdout().lock().write_all(text.as_bytes());
             }
@@ -236,7 +287,7 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                         &outcome.stats,
                         &options,
                     ));
-                    return fail(&db, &diagnostics);
+                    return Err(fail(&db, &diagnostics));
                 }
             }
         }
@@ -281,16 +332,33 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                 plans.len()
             )));
         }
-        return fail(&db, &diagnostics);
+        return Err(fail(&db, &diagnostics));
     };
+    Ok(Planned { db, diagnostics, frontend, problem, plans, index, timed, origin, stats, task })
+}
+
+pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
+    let dump_task = args.dump_after == Some(PlanDump::Task);
+    let planned = match plan_and_schedule(&args.planning, color, dump_task) {
+        Ok(planned) => planned,
+        Err(status) => return status,
+    };
+    let Planned { db, diagnostics, frontend, problem, plans, index, timed, origin, stats, mut task } = planned;
+    let (kb, interner) = (&frontend.kb, &frontend.interner);
     let plan = &plans[index];
     match args.dump_after {
         Some(PlanDump::Pop) => print_out(&crate::ir::pop::print(interner, &timed.pop)),
         Some(PlanDump::Stn) => print_out(&crate::ir::stn::print(interner, &timed.pop, &timed.stn)),
-        Some(PlanDump::Schedule) => print_out(&schedule::print(interner, kb, &timed.pop, &timed.schedule)),
+        Some(PlanDump::Schedule) => print_out(&schedule::dump(interner, &timed.pop, &timed.schedule)),
+        Some(PlanDump::Minimal) => {
+            let network = passes::schedule::MinimalNetwork::new(&timed.stn, &timed.schedule);
+            let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+            let _ = crate::ir::stn::print_minimal(&timed.stn, |node| network.row(node), &mut out);
+            let _ = out.flush();
+        }
         _ => {}
     }
-    report(&db, &diagnostics, args.message_format, color);
+    report(&db, &diagnostics, args.planning.message_format, color);
     if let Some(emit) = args.emit {
         let text = match emit {
             Emit::PopDot => render::dot::pop(interner, &timed.pop),

@@ -132,6 +132,9 @@ codes! {
     INVALID_SCHEDULE = "E0403": "a timed plan that does not execute";
     EXPORT_INEXPRESSIBLE = "E0404": "a KB construct PDDL cannot express";
     EXPORT_TOO_LARGE = "E0405": "an export that would be too large";
+    // Back end and VM.
+    BAD_BYTECODE = "E0501": "a bytecode file that does not load";
+    RUN_FAILED = "E0502": "a behaviour tree that did not succeed";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";

@@ -3,6 +3,7 @@
 //! - [`hir`]: the resolved knowledge base (actions, problems, static program);
 //! - [`unify`]: unification of HIR terms across items, for checks on the HIR.
 
+pub mod bt;
 pub mod hir;
 pub mod plan;
 pub mod pop;

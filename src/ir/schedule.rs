@@ -93,6 +93,29 @@ pub fn print(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> St
     out
 }
 
+/// The text form (`--dump-after schedule`): every snap action with its earliest and latest
+/// time and its slack, in plan order.
+pub fn dump(interner: &Interner, pop: &Pop, schedule: &Schedule) -> String {
+    let no_vars = VarTable::default();
+    let names: Vec<String> = pop.steps.iter().map(|s| hir::term_to_string(interner, &s.name, &no_vars)).collect();
+    let width = names.iter().map(String::len).max().unwrap_or(0);
+    let mut out = format!(
+        "% schedule: makespan {}; each snap action's earliest time, latest time that keeps the makespan, slack\n",
+        format_time(schedule.makespan)
+    );
+    for (i, name) in names.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "a{:<3} {name:<width$}  {:>9} {:>9}  slack {}",
+            i + 1,
+            format_time(schedule.earliest[i]),
+            format_time(schedule.latest[i]),
+            format_time(schedule.slack(i))
+        );
+    }
+    out
+}
+
 /// Checks the invariants: a time per step, earliest <= latest, nothing before zero, the
 /// makespan the largest time, every ordering respected. A failure is a compiler bug.
 pub fn verify(pop: &Pop, schedule: &Schedule) -> Result<(), String> {

@@ -201,3 +201,35 @@ pub fn verify(pop: &Pop, stn: &Stn) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The text form of the minimal network (`--dump-after minimal`), written as it is computed:
+/// for every pair of time points, the tightest bounds on the later minus the earlier, in
+/// thousandths (`inf` where nothing bounds it). `row(node)` gives, by node index, how much
+/// later every point can be than `node` and how much earlier (see
+/// `passes::schedule::MinimalNetwork::row`).
+pub fn print_minimal(
+    stn: &Stn,
+    mut row: impl FnMut(usize) -> (Vec<Option<i64>>, Vec<Option<i64>>),
+    out: &mut dyn std::io::Write,
+) -> std::io::Result<()> {
+    let name = |p: TimePoint| match p {
+        TimePoint::Origin => "origin".to_string(),
+        TimePoint::Step(i) => format!("a{}", i + 1),
+    };
+    // Origin first, then the steps in plan order, as `--dump-after stn` names them.
+    let order: Vec<NodeIndex> = std::iter::once(stn.origin).chain(stn.nodes.iter().copied()).collect();
+    writeln!(
+        out,
+        "% minimal network: {} time points; `x y [lo, hi]` is lo <= y - x <= hi (times in thousandths)",
+        stn.len()
+    )?;
+    for (k, &x) in order.iter().enumerate() {
+        let (later, earlier) = row(x.index());
+        for &y in &order[k + 1..] {
+            let lo = earlier[y.index()].map_or("-inf".to_string(), |d| (-d).to_string());
+            let hi = later[y.index()].map_or("inf".to_string(), |d| d.to_string());
+            writeln!(out, "{} {} [{lo}, {hi}]", name(stn.graph[x]), name(stn.graph[y]))?;
+        }
+    }
+    Ok(())
+}

@@ -8,6 +8,7 @@
 //!
 //! No pass does IO: included files arrive through a [`load::SourceLoader`].
 
+pub mod bt;
 pub mod check;
 pub mod load;
 pub mod lower;

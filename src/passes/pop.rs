@@ -28,7 +28,7 @@ use crate::ir::pop::{Achiever, Condition, ConditionKind, Ordering, Pop, PopStep,
 use crate::ir::unify::unifiable;
 
 /// A term with the step's bindings put in; variables without a value stay.
-fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
+pub(crate) fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
     match term {
         Term::Var(v) => match bindings.get(v.0 as usize).cloned().flatten() {
             Some(value) => value,

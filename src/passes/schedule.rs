@@ -156,3 +156,65 @@ pub fn solve(stn: &Stn) -> Result<Schedule, NegativeCycle> {
     debug_assert!(stn.graph[stn.origin] == TimePoint::Origin);
     Ok(Schedule { earliest, latest, makespan })
 }
+
+/// The minimal network of a consistent STN, one point at a time: the tightest bounds the
+/// constraints imply between every pair of time points, which are the shortest distances
+/// between them in the distance graph.
+///
+/// Johnson's method: any solution of the network (the earliest schedule) is a potential that
+/// makes every reduced weight `w(u, v) + t(u) - t(v)` non-negative, so Dijkstra's algorithm
+/// finds the distances from one point, on the graph, and to it, on the reversed graph
+/// (potential `-t`). A point costs two runs, `O(E log N)`; the whole network, which has `N²`
+/// entries, is produced point by point so that no `N × N` table is ever held.
+pub struct MinimalNetwork {
+    forward: Adjacency,
+    backward: Adjacency,
+    /// A solution of the network, by node index.
+    potential: Vec<i64>,
+}
+
+impl MinimalNetwork {
+    /// Prepares the runs; `schedule` must be the one [`solve`] found for `stn`.
+    pub fn new(stn: &Stn, schedule: &Schedule) -> MinimalNetwork {
+        let mut potential = vec![0i64; stn.len()];
+        for (i, node) in stn.nodes.iter().enumerate() {
+            potential[node.index()] = schedule.earliest[i];
+        }
+        MinimalNetwork { forward: Adjacency::new(stn, false), backward: Adjacency::new(stn, true), potential }
+    }
+
+    /// `(from, to)` for the point `node`: `from[v]` is the largest `t(v) - t(node)` can be and
+    /// `to[v]` the largest `t(node) - t(v)` can be, by node index; `None` is unbounded.
+    pub fn row(&self, node: usize) -> (Vec<Option<i64>>, Vec<Option<i64>>) {
+        (self.dijkstra(&self.forward, node, 1), self.dijkstra(&self.backward, node, -1))
+    }
+
+    fn dijkstra(&self, adjacency: &Adjacency, source: usize, sign: i64) -> Vec<Option<i64>> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        let p = |v: usize| sign * self.potential[v];
+        let n = self.potential.len();
+        let mut reduced = vec![i64::MAX; n];
+        let mut done = vec![false; n];
+        let mut heap = BinaryHeap::new();
+        reduced[source] = 0;
+        heap.push(Reverse((0i64, source)));
+        while let Some(Reverse((d, node))) = heap.pop() {
+            if done[node] {
+                continue;
+            }
+            done[node] = true;
+            for &(to, weight, _) in adjacency.of(node) {
+                let to = to as usize;
+                let w = weight + p(node) - p(to);
+                debug_assert!(w >= 0, "the potential is not a solution of the network");
+                let candidate = d.saturating_add(w);
+                if candidate < reduced[to] {
+                    reduced[to] = candidate;
+                    heap.push(Reverse((candidate, to)));
+                }
+            }
+        }
+        (0..n).map(|v| (reduced[v] < i64::MAX).then(|| reduced[v] - p(source) + p(v))).collect()
+    }
+}

@@ -1,0 +1,163 @@
+//! Running a bytecode program in virtual time: the run loop, the trace host, and the
+//! executed timeline as a timed plan (which `validate::validate_timed` checks).
+//!
+//! The loop never sleeps and never reads a clock: it ticks the VM at `now`, ticks again at
+//! the same time while events keep being recorded (a node may wait for an event another
+//! branch recorded later in the same tick), then jumps to the earliest time anything can
+//! change: the VM's next deadline or the host's next completion.
+
+use std::fmt::Write;
+
+use kbvm::bytecode::{EventId, Instr};
+use kbvm::{Failure, Host, Invocation, Poll, Program, Status, Vm};
+
+/// A host that completes each action after its nominal duration (its least duration), and
+/// records when it started and ended each one.
+#[derive(Default)]
+pub struct TraceHost {
+    /// Running actions: id, start time, completion time.
+    running: Vec<(EventId, i64, i64)>,
+    /// Every start and completion, in order: (time, id, true for a start).
+    pub log: Vec<(i64, EventId, bool)>,
+}
+
+/// A host in virtual time: it can say when it will next have news.
+pub trait VirtualHost: Host {
+    /// The earliest time after `now` at which a running action will complete (or fail).
+    fn next_completion(&self, now: i64) -> Option<i64>;
+}
+
+impl VirtualHost for TraceHost {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.running.iter().map(|&(_, _, done)| done).filter(|&done| done > now).min()
+    }
+}
+
+impl Host for TraceHost {
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
+        self.running.push((action.id, now, now + action.min));
+        self.log.push((now, action.id, true));
+        Ok(())
+    }
+
+    fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll {
+        match self.running.iter().position(|&(id, _, _)| id == action.id) {
+            Some(i) if now >= self.running[i].2 => {
+                self.running.swap_remove(i);
+                self.log.push((now, action.id, false));
+                Poll::Success
+            }
+            Some(_) => Poll::Running,
+            None => Poll::Failure(format!("`{}` was never started", action.text())),
+        }
+    }
+
+    fn halt(&mut self, action: &Invocation<'_>, _: i64) {
+        self.running.retain(|&(id, _, _)| id != action.id);
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// The tree succeeded.
+    Success,
+    /// A node failed.
+    Failure(Failure),
+    /// Nothing can happen any more, yet the tree has not finished (a wait for an event no
+    /// node will record).
+    Stuck,
+    /// The time or tick budget ran out.
+    Budget,
+}
+
+/// A finished run.
+pub struct Run {
+    /// How it ended.
+    pub outcome: Outcome,
+    /// The time of the last tick.
+    pub end: i64,
+    /// Ticks made.
+    pub ticks: u64,
+    /// When each event was recorded (`None` if it never was).
+    pub events: Vec<Option<i64>>,
+}
+
+/// Ticks `program` against `host` from time 0 until it finishes, gets stuck, or passes
+/// `max_time` (program units) or `max_ticks`.
+pub fn run(program: &Program, host: &mut dyn VirtualHost, max_time: i64, max_ticks: u64) -> Run {
+    let mut vm = Vm::new(program);
+    let mut now = 0i64;
+    let mut ticks = 0u64;
+    let outcome = loop {
+        let before = vm.events_recorded();
+        let status = vm.tick(host, now);
+        ticks += 1;
+        match status {
+            Status::Success => break Outcome::Success,
+            Status::Failure => break vm.failure().cloned().map_or(Outcome::Stuck, Outcome::Failure),
+            Status::Running => {}
+        }
+        if ticks >= max_ticks {
+            break Outcome::Budget;
+        }
+        if vm.events_recorded() != before {
+            continue; // tick again at the same time
+        }
+        let next = [vm.next_deadline(), host.next_completion(now)].into_iter().flatten().filter(|&t| t > now).min();
+        match next {
+            Some(t) if t > max_time => break Outcome::Budget,
+            Some(t) => now = t,
+            None => break Outcome::Stuck,
+        }
+    };
+    let events = (0..program.module().events).map(|e| vm.event_time(EventId(e))).collect();
+    Run { outcome, end: now, ticks, events }
+}
+
+/// The executed timeline as a timed plan in the PDDL 2.1 format (`kbc validate` reads it):
+/// each action at its start's recorded time, with the time to its end's.
+pub fn timed_plan(program: &Program, run: &Run) -> String {
+    let m = program.module();
+    let mut lines: Vec<(i64, usize, String)> = Vec::new();
+    let scale = m.time_scale as i64;
+    let time = |t: i64| format!("{}.{:03}", t / scale, (t % scale) * 1000 / scale);
+    let call = |import: &kbvm::bytecode::ImportId, args: &[kbvm::bytecode::Value]| {
+        let mut text = format!("({}", program.import_name(*import));
+        for &a in args {
+            let _ = write!(text, " {}", program.value_text(a));
+        }
+        text.push(')');
+        text
+    };
+    // The end event of each start event.
+    let mut end_of = vec![None; m.events as usize];
+    for node in &m.nodes {
+        if let Instr::End { event, start, .. } = node {
+            end_of[start.0 as usize] = Some(*event);
+        }
+    }
+    for (i, node) in m.nodes.iter().enumerate() {
+        match node {
+            Instr::Start { event, import, args, .. } => {
+                let Some(start) = run.events[event.0 as usize] else { continue };
+                if let Some(end) = end_of[event.0 as usize].and_then(|e| run.events[e.0 as usize]) {
+                    lines.push((start, i, format!("{}: {} [{}]", time(start), call(import, args), time(end - start))));
+                }
+            }
+            Instr::Act { event, import, args, .. } => {
+                if let Some(at) = run.events[event.0 as usize] {
+                    lines.push((at, i, format!("{}: {}", time(at), call(import, args))));
+                }
+            }
+            _ => {}
+        }
+    }
+    lines.sort();
+    let mut out = String::new();
+    for (_, _, line) in lines {
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}

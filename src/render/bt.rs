@@ -1,0 +1,159 @@
+//! The behaviour tree for people and other tools: BehaviorTree.CPP v4 XML and Graphviz, both
+//! written from the bytecode module, so a `.kbb` file and its pictures always agree.
+//!
+//! In the XML, each start of a durative action `X` is an action node `X_start`, each end
+//! `X_end`, an instantaneous action `X`; their ground arguments are ports `arg0`, `arg1`, ...,
+//! and every node also carries its `event`. Waits are `WaitEvents` nodes whose `after` port
+//! lists `eN+delay` (delays in program units). The `TreeNodesModel` declares each of these
+//! node types once with its ports, as Groot2 needs.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use kbvm::bytecode::{Instr, Module, Value};
+
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A leaf's node type and its attributes; `None` for composites.
+fn leaf(module: &Module, node: &Instr) -> Option<(String, Vec<(String, String)>)> {
+    let args = |args: &[Value]| -> Vec<(String, String)> {
+        args.iter().enumerate().map(|(i, &a)| (format!("arg{i}"), module.value_text(a))).collect()
+    };
+    let import = |i: kbvm::bytecode::ImportId| module.value_text(Value::Atom(module.imports[i.0 as usize].name));
+    Some(match node {
+        Instr::Sequence { .. } | Instr::Parallel { .. } => return None,
+        Instr::Wait { after } => {
+            let list: Vec<String> = after.iter().map(|d| format!("e{}+{}", d.event.0, d.after.0)).collect();
+            ("WaitEvents".to_string(), vec![("after".to_string(), list.join(";"))])
+        }
+        Instr::Start { event, import: i, args: a, min, max, .. } => {
+            let mut attrs = vec![("event".to_string(), format!("e{}", event.0))];
+            attrs.extend(args(a));
+            attrs.push(("min".to_string(), min.0.to_string()));
+            attrs.push(("max".to_string(), max.0.map_or("inf".to_string(), |m| m.to_string())));
+            (format!("{}_start", import(*i)), attrs)
+        }
+        Instr::End { event, start, .. } => {
+            let starter = module.nodes.iter().find_map(|n| match n {
+                Instr::Start { event: e, import: i, args: a, .. } if e == start => Some((import(*i), args(a))),
+                _ => None,
+            });
+            let (name, a) = starter.unwrap_or_else(|| ("action".to_string(), Vec::new()));
+            let mut attrs =
+                vec![("event".to_string(), format!("e{}", event.0)), ("start".to_string(), format!("e{}", start.0))];
+            attrs.extend(a);
+            (format!("{name}_end"), attrs)
+        }
+        Instr::Act { event, import: i, args: a, .. } => {
+            let mut attrs = vec![("event".to_string(), format!("e{}", event.0))];
+            attrs.extend(args(a));
+            (import(*i), attrs)
+        }
+    })
+}
+
+/// BehaviorTree.CPP v4 XML.
+pub fn xml(module: &Module) -> String {
+    let mut out = String::from(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"Plan\">\n  <BehaviorTree ID=\"Plan\">\n",
+    );
+    let mut models: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    fn write_node(
+        module: &Module,
+        index: usize,
+        depth: usize,
+        out: &mut String,
+        models: &mut BTreeMap<String, Vec<String>>,
+    ) {
+        let indent = "  ".repeat(depth + 2);
+        let node = &module.nodes[index];
+        match node {
+            Instr::Sequence { children } | Instr::Parallel { children } => {
+                let tag = if matches!(node, Instr::Sequence { .. }) {
+                    "<Sequence>".to_string()
+                } else {
+                    format!("<Parallel success_count=\"{}\" failure_count=\"1\">", children.len())
+                };
+                let _ = writeln!(out, "{indent}{tag}");
+                for child in children {
+                    write_node(module, child.0 as usize, depth + 1, out, models);
+                }
+                let close = if matches!(node, Instr::Sequence { .. }) { "</Sequence>" } else { "</Parallel>" };
+                let _ = writeln!(out, "{indent}{close}");
+            }
+            _ => {
+                let Some((id, attrs)) = leaf(module, node) else { return };
+                let _ = write!(out, "{indent}<{}", escape(&id));
+                for (k, v) in &attrs {
+                    let _ = write!(out, " {k}=\"{}\"", escape(v));
+                }
+                out.push_str("/>\n");
+                let ports = models.entry(id).or_default();
+                for (k, _) in attrs {
+                    if !ports.contains(&k) {
+                        ports.push(k);
+                    }
+                }
+            }
+        }
+    }
+    if let Some(Instr::Sequence { children }) = module.nodes.get(module.root.0 as usize)
+        && children.is_empty()
+    {
+        out.push_str("    <AlwaysSuccess/>\n");
+    } else {
+        write_node(module, module.root.0 as usize, 0, &mut out, &mut models);
+    }
+    out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
+    for (id, ports) in &models {
+        let _ = writeln!(out, "    <Action ID=\"{}\">", escape(id));
+        for port in ports {
+            let _ = writeln!(out, "      <input_port name=\"{port}\"/>");
+        }
+        out.push_str("    </Action>\n");
+    }
+    out.push_str("  </TreeNodesModel>\n</root>\n");
+    out
+}
+
+/// Graphviz DOT: composites as boxes, waits as diamonds, actions as ellipses.
+pub fn dot(module: &Module) -> String {
+    let mut out = String::from("digraph behaviour_tree {\n  rankdir=TB;\n  node [fontname=\"Helvetica\"];\n");
+    for (i, node) in module.nodes.iter().enumerate() {
+        let (label, shape) = match node {
+            Instr::Sequence { .. } => ("sequence \u{2192}".to_string(), "box"),
+            Instr::Parallel { .. } => ("parallel \u{21c9}".to_string(), "box"),
+            other => {
+                let (id, attrs) = leaf(module, other).unwrap_or_default();
+                let args: Vec<&str> =
+                    attrs.iter().filter(|(k, _)| k.starts_with("arg")).map(|(_, v)| v.as_str()).collect();
+                let text = match other {
+                    Instr::Wait { .. } => format!("wait {}", attrs.first().map_or("", |(_, v)| v.as_str())),
+                    _ => format!("{id}({})", args.join(", ")),
+                };
+                (text, if matches!(other, Instr::Wait { .. }) { "diamond" } else { "ellipse" })
+            }
+        };
+        let _ = writeln!(out, "  n{i} [label=\"{}\", shape={shape}];", label.replace('"', "\\\""));
+    }
+    for (i, node) in module.nodes.iter().enumerate() {
+        for child in Module::children(node) {
+            let _ = writeln!(out, "  n{i} -> n{};", child.0);
+        }
+    }
+    out.push_str("}\n");
+    out
+}
