@@ -35,7 +35,7 @@ impl VirtualHost for TraceHost {
 
 impl Host for TraceHost {
     fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
-        self.running.push((action.id, now, now + action.min));
+        self.running.push((action.id, now, now + action.min()));
         self.log.push((now, action.id, true));
         Ok(())
     }

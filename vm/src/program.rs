@@ -13,6 +13,23 @@ pub struct Program {
     pub(crate) location: Vec<Option<u32>>,
     /// The tree's depth (the root at 1).
     pub(crate) depth: usize,
+    /// Per event of a start or act node: what the host is asked to run, ready-made, so a
+    /// tick builds an [`crate::Invocation`] without decoding the node again.
+    pub(crate) actions: Vec<Action>,
+    /// The arguments of every action, back to back.
+    pub(crate) args: Vec<Value>,
+}
+
+/// The host call of a start or act node.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Action {
+    pub(crate) import: u32,
+    /// The import's name, a symbol.
+    pub(crate) name: u32,
+    /// Where its arguments are in `Program::args`.
+    pub(crate) args: (u32, u32),
+    pub(crate) min: i64,
+    pub(crate) max: Option<i64>,
 }
 
 /// Where a node comes from in the KB, from the debug info.
@@ -54,7 +71,25 @@ impl Program {
             depth = depth.max(d);
             stack.extend(Module::children(&module.nodes[node]).iter().map(|c| (c.0 as usize, d + 1)));
         }
-        Program { module, recorder, location, depth }
+        let mut actions = vec![Action::default(); module.events as usize];
+        let mut all_args = Vec::new();
+        for node in &module.nodes {
+            let (event, import, args, min, max) = match node {
+                Instr::Start { event, import, args, min, max, .. } => (event, import, args, min.0, max.0),
+                Instr::Act { event, import, args, .. } => (event, import, args, 0, None),
+                _ => continue,
+            };
+            let from = all_args.len() as u32;
+            all_args.extend_from_slice(args);
+            actions[event.0 as usize] = Action {
+                import: import.0,
+                name: module.imports[import.0 as usize].name,
+                args: (from, all_args.len() as u32),
+                min,
+                max,
+            };
+        }
+        Program { module, recorder, location, depth, actions, args: all_args }
     }
 
     /// The decoded module: tables and nodes.

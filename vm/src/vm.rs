@@ -28,7 +28,7 @@
 //! action still running and stays in Failure until [`Vm::reset`].
 
 use crate::bytecode::{Check, Effect, EventId, FluentId, ImportId, Instr, NodeRef, Value};
-use crate::program::Program;
+use crate::program::{Action, Program};
 
 /// What a tick returns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,32 +57,48 @@ pub enum Poll {
 pub struct Invocation<'p> {
     /// Identifies this action instance: the event of its start node.
     pub id: EventId,
-    /// The import table entry.
-    pub import: ImportId,
-    /// The action's name.
-    pub name: &'p str,
-    /// Its ground arguments (atoms as symbols: see [`Invocation::arg_text`]).
-    pub args: &'p [Value],
-    /// Its least duration in program time units (0 for an instantaneous action).
-    pub min: i64,
-    /// Its greatest duration, if bounded.
-    pub max: Option<i64>,
+    action: &'p Action,
     program: &'p Program,
 }
 
-impl Invocation<'_> {
+impl<'p> Invocation<'p> {
+    /// The import table entry.
+    pub fn import(&self) -> ImportId {
+        ImportId(self.action.import)
+    }
+
+    /// The action's name.
+    pub fn name(&self) -> &'p str {
+        &self.program.module.symbols[self.action.name as usize]
+    }
+
+    /// Its ground arguments (atoms as symbols: see [`Invocation::arg_text`]).
+    pub fn args(&self) -> &'p [Value] {
+        &self.program.args[self.action.args.0 as usize..self.action.args.1 as usize]
+    }
+
+    /// Its least duration in program time units (0 for an instantaneous action).
+    pub fn min(&self) -> i64 {
+        self.action.min
+    }
+
+    /// Its greatest duration, if bounded.
+    pub fn max(&self) -> Option<i64> {
+        self.action.max
+    }
+
     /// The text of argument `i`.
     pub fn arg_text(&self, i: usize) -> String {
-        self.args.get(i).map_or_else(String::new, |&v| self.program.value_text(v))
+        self.args().get(i).map_or_else(String::new, |&v| self.program.value_text(v))
     }
 
     /// The call as text: `move_block(a1, b2, 1, 1, 3, 3)`.
     pub fn text(&self) -> String {
-        if self.args.is_empty() {
-            return self.name.to_string();
+        if self.args().is_empty() {
+            return self.name().to_string();
         }
-        let args: Vec<String> = (0..self.args.len()).map(|i| self.arg_text(i)).collect();
-        format!("{}({})", self.name, args.join(", "))
+        let args: Vec<String> = (0..self.args().len()).map(|i| self.arg_text(i)).collect();
+        format!("{}({})", self.name(), args.join(", "))
     }
 }
 
@@ -230,79 +246,141 @@ impl<'p> Vm<'p> {
         let nodes = &program.module.nodes;
         self.deadline = None;
         self.stack.clear();
-        self.stack.push(Frame { node: program.module.root.0, next: 0, running: false });
-        let mut visits = 0usize;
-        let mut returned: Option<Status> = None;
-        while let Some(frame) = self.stack.last_mut() {
+        let root = program.module.root.0;
+        let mut visits = 1usize;
+        let mut returned: Option<Status> = match &nodes[root as usize] {
+            Instr::Sequence { .. } | Instr::Parallel { .. } => {
+                self.stack.push(Frame { node: root, next: 0, running: false });
+                None
+            }
+            leaf => Some(self.tick_any_leaf(root as usize, leaf, host, now)),
+        };
+        // Composites are frames on the stack; their leaf children are ticked in place, which
+        // keeps a leaf tick to a status check, the leaf's own work and the host call.
+        'walk: while let Some(frame) = self.stack.last() {
             let node = frame.node as usize;
-            if returned.is_none() {
+            let (mut next, mut running) = (frame.next as usize, frame.running);
+            let children = match &nodes[node] {
+                Instr::Sequence { children } | Instr::Parallel { children } => children,
+                _ => unreachable!("only composites are pushed"),
+            };
+            let sequence = matches!(nodes[node], Instr::Sequence { .. });
+            if sequence {
+                next = self.cursor[node] as usize;
+            }
+            match returned.take() {
+                Some(Status::Failure) => {
+                    self.status[node] = FAILED;
+                    self.stack.pop();
+                    returned = Some(Status::Failure);
+                    continue;
+                }
+                Some(Status::Running) if sequence => {
+                    self.stack.pop();
+                    returned = Some(Status::Running);
+                    continue;
+                }
+                Some(Status::Running) => {
+                    running = true;
+                    next += 1;
+                }
+                Some(Status::Success) => next += 1,
+                None => {}
+            }
+            let mut descend = None;
+            let mut outcome = None;
+            while let Some(child) = children.get(next) {
+                let c = child.0 as usize;
+                if self.status[c] == SUCCEEDED {
+                    next += 1;
+                    continue;
+                }
                 visits += 1;
                 if visits > self.budget {
-                    returned = Some(self.fail(node, now, Reason::Budget));
-                    break;
+                    returned = Some(self.fail(c, now, Reason::Budget));
+                    break 'walk;
                 }
-            }
-            match &nodes[node] {
-                Instr::Sequence { children } => {
-                    match returned.take() {
-                        Some(Status::Success) => self.cursor[node] += 1,
-                        Some(other) => {
-                            if other == Status::Failure {
-                                self.status[node] = FAILED;
+                let status = match &nodes[c] {
+                    // A parallel's sequence child (one per branch in kbc's trees) is run in
+                    // place up to its first composite child, without a frame of its own.
+                    Instr::Sequence { children: inner } if !sequence => {
+                        let mut inner_status = None;
+                        while let Some(grandchild) = inner.get(self.cursor[c] as usize) {
+                            let g = grandchild.0 as usize;
+                            let leaf = match &nodes[g] {
+                                Instr::Sequence { .. } | Instr::Parallel { .. } => break,
+                                leaf => leaf,
+                            };
+                            visits += 1;
+                            if visits > self.budget {
+                                returned = Some(self.fail(g, now, Reason::Budget));
+                                break 'walk;
                             }
-                            self.stack.pop();
-                            returned = Some(other);
-                            continue;
+                            match self.tick_any_leaf(g, leaf, host, now) {
+                                Status::Success => self.cursor[c] += 1,
+                                other => {
+                                    inner_status = Some(other);
+                                    break;
+                                }
+                            }
                         }
-                        None => {}
-                    }
-                    match children.get(self.cursor[node] as usize) {
-                        Some(child) => self.stack.push(Frame { node: child.0, next: 0, running: false }),
-                        None => {
-                            self.status[node] = SUCCEEDED;
-                            self.stack.pop();
-                            returned = Some(Status::Success);
+                        match inner_status {
+                            Some(status) => {
+                                if status == Status::Failure {
+                                    self.status[c] = FAILED;
+                                }
+                                status
+                            }
+                            None if self.cursor[c] as usize == inner.len() => {
+                                self.status[c] = SUCCEEDED;
+                                Status::Success
+                            }
+                            None => {
+                                descend = Some(child.0);
+                                break;
+                            }
                         }
                     }
-                }
-                Instr::Parallel { children } => {
-                    match returned.take() {
-                        Some(Status::Failure) => {
-                            self.status[node] = FAILED;
-                            self.stack.pop();
-                            returned = Some(Status::Failure);
-                            continue;
-                        }
-                        Some(Status::Running) => {
-                            frame.running = true;
-                            frame.next += 1;
-                        }
-                        Some(Status::Success) => frame.next += 1,
-                        None => {}
+                    Instr::Sequence { .. } | Instr::Parallel { .. } => {
+                        descend = Some(child.0);
+                        break;
                     }
-                    let mut i = frame.next as usize;
-                    while i < children.len() && self.status[children[i].0 as usize] == SUCCEEDED {
-                        i += 1;
+                    leaf => self.tick_any_leaf(c, leaf, host, now),
+                };
+                match status {
+                    Status::Success => next += 1,
+                    Status::Running if !sequence => {
+                        running = true;
+                        next += 1;
                     }
-                    frame.next = i as u32;
-                    if i == children.len() {
-                        let running = frame.running;
-                        self.stack.pop();
-                        if !running {
-                            self.status[node] = SUCCEEDED;
-                        }
-                        returned = Some(if running { Status::Running } else { Status::Success });
-                    } else {
-                        let child = children[i].0;
-                        self.stack.push(Frame { node: child, next: 0, running: false });
+                    other => {
+                        outcome = Some(other);
+                        break;
                     }
-                }
-                leaf => {
-                    let status = self.tick_leaf(node, leaf, host, now);
-                    self.stack.pop();
-                    returned = Some(status);
                 }
             }
+            if sequence {
+                self.cursor[node] = next as u32;
+            } else if let Some(top) = self.stack.last_mut() {
+                top.next = next as u32;
+                top.running = running;
+            }
+            if let Some(child) = descend {
+                self.stack.push(Frame { node: child, next: 0, running: false });
+                continue;
+            }
+            let status = match outcome {
+                Some(status) => status,
+                None if running => Status::Running,
+                None => Status::Success,
+            };
+            match status {
+                Status::Success => self.status[node] = SUCCEEDED,
+                Status::Failure => self.status[node] = FAILED,
+                Status::Running => {}
+            }
+            self.stack.pop();
+            returned = Some(status);
         }
         let status = returned.unwrap_or(Status::Failure);
         if status != Status::Running {
@@ -312,6 +390,80 @@ impl<'p> Vm<'p> {
             }
         }
         status
+    }
+
+    /// An end node: the hot path of a running tree (every running action's end is polled on
+    /// every tick), so it is inlined into the walk.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn tick_end(
+        &mut self,
+        node: usize,
+        event: EventId,
+        start: EventId,
+        check: &Check,
+        effects: &[Effect],
+        host: &mut dyn Host,
+        now: i64,
+    ) -> Status {
+        let started = self.event_time[start.0 as usize];
+        if started == NEVER {
+            return Status::Running; // its start has not happened yet
+        }
+        let action = &self.program.actions[start.0 as usize];
+        let (min, max) = (action.min, action.max);
+        if self.cursor[node] == 0 {
+            let invocation = self.invocation(start.0 as usize);
+            let overran = |now: i64| max.filter(|&m| now > started.saturating_add(m));
+            match host.poll(&invocation, now) {
+                Poll::Running => {
+                    if let Some(max) = overran(now) {
+                        host.halt(&invocation, now);
+                        self.running[start.0 as usize] = false;
+                        return self.fail(node, now, Reason::Overran { max });
+                    }
+                    if let Some(max) = max {
+                        self.wake_at(started.saturating_add(max).saturating_add(1));
+                    }
+                    return Status::Running;
+                }
+                Poll::Failure(message) => {
+                    self.running[start.0 as usize] = false;
+                    return self.fail(node, now, Reason::HostFailed(message));
+                }
+                Poll::Success => {
+                    self.running[start.0 as usize] = false;
+                    if let Some(max) = overran(now) {
+                        return self.fail(node, now, Reason::Overran { max });
+                    }
+                    self.cursor[node] = 1;
+                }
+            }
+        }
+        let earliest = started.saturating_add(min);
+        if now < earliest {
+            self.wake_at(earliest);
+            return Status::Running;
+        }
+        if let Err(reason) = self.check(check) {
+            return self.fail(node, now, reason);
+        }
+        self.apply(effects);
+        self.event_time[event.0 as usize] = now;
+        self.recorded += 1;
+        self.status[node] = SUCCEEDED;
+        Status::Success
+    }
+
+    /// Ticks any leaf, end nodes inline.
+    #[inline(always)]
+    fn tick_any_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
+        match instr {
+            Instr::End { event, start, check, effects } => {
+                self.tick_end(node, *event, *start, check, effects, host, now)
+            }
+            other => self.tick_leaf(node, other, host, now),
+        }
     }
 
     fn tick_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
@@ -336,7 +488,7 @@ impl<'p> Vm<'p> {
                     return self.fail(node, now, reason);
                 }
                 self.apply(effects);
-                let invocation = self.invocation(node);
+                let invocation = self.invocation(event.0 as usize);
                 if let Err(message) = host.start(&invocation, now) {
                     return self.fail(node, now, Reason::Refused(message));
                 }
@@ -347,59 +499,10 @@ impl<'p> Vm<'p> {
                 Status::Success
             }
             Instr::End { event, start, check, effects } => {
-                let started = self.event_time[start.0 as usize];
-                if started == NEVER {
-                    return Status::Running; // its start has not happened yet
-                }
-                let starter = self.program.recorder[start.0 as usize] as usize;
-                let (min, max) = match &self.program.module.nodes[starter] {
-                    Instr::Start { min, max, .. } => (min.0, max.0),
-                    _ => (0, None),
-                };
-                if self.cursor[node] == 0 {
-                    let invocation = self.invocation(starter);
-                    let overran = |now: i64| max.filter(|&m| now > started.saturating_add(m));
-                    match host.poll(&invocation, now) {
-                        Poll::Running => {
-                            if let Some(max) = overran(now) {
-                                host.halt(&invocation, now);
-                                self.running[start.0 as usize] = false;
-                                return self.fail(node, now, Reason::Overran { max });
-                            }
-                            if let Some(max) = max {
-                                self.wake_at(started.saturating_add(max).saturating_add(1));
-                            }
-                            return Status::Running;
-                        }
-                        Poll::Failure(message) => {
-                            self.running[start.0 as usize] = false;
-                            return self.fail(node, now, Reason::HostFailed(message));
-                        }
-                        Poll::Success => {
-                            self.running[start.0 as usize] = false;
-                            if let Some(max) = overran(now) {
-                                return self.fail(node, now, Reason::Overran { max });
-                            }
-                            self.cursor[node] = 1;
-                        }
-                    }
-                }
-                let earliest = started.saturating_add(min);
-                if now < earliest {
-                    self.wake_at(earliest);
-                    return Status::Running;
-                }
-                if let Err(reason) = self.check(check) {
-                    return self.fail(node, now, reason);
-                }
-                self.apply(effects);
-                self.event_time[event.0 as usize] = now;
-                self.recorded += 1;
-                self.status[node] = SUCCEEDED;
-                Status::Success
+                self.tick_end(node, *event, *start, check, effects, host, now)
             }
             Instr::Act { event, check, effects, .. } => {
-                let invocation = self.invocation(node);
+                let invocation = self.invocation(event.0 as usize);
                 if self.cursor[node] == 0 {
                     if let Err(reason) = self.check(check) {
                         return self.fail(node, now, reason);
@@ -430,15 +533,10 @@ impl<'p> Vm<'p> {
         }
     }
 
-    /// The host call of the start or act node `node`.
-    fn invocation(&self, node: usize) -> Invocation<'p> {
+    /// The host call of the action whose start (or act) node records `event`.
+    fn invocation(&self, event: usize) -> Invocation<'p> {
         let program: &'p Program = self.program;
-        let (id, import, args, min, max) = match &program.module.nodes[node] {
-            Instr::Start { event, import, args, min, max, .. } => (*event, *import, &args[..], min.0, max.0),
-            Instr::Act { event, import, args, .. } => (*event, *import, &args[..], 0, None),
-            _ => (EventId(0), ImportId(0), &[][..], 0, None),
-        };
-        Invocation { id, import, name: program.import_name(import), args, min, max, program }
+        Invocation { id: EventId(event as u32), action: &program.actions[event], program }
     }
 
     fn holds(&self, fluent: FluentId) -> bool {
@@ -485,8 +583,7 @@ impl<'p> Vm<'p> {
     fn halt_actions(&mut self, host: &mut dyn Host, now: i64) {
         for event in 0..self.running.len() {
             if std::mem::replace(&mut self.running[event], false) {
-                let node = self.program.recorder[event] as usize;
-                let invocation = self.invocation(node);
+                let invocation = self.invocation(event);
                 host.halt(&invocation, now);
             }
         }
