@@ -330,3 +330,34 @@ fn build_disasm_and_run_a_program() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(stderr(&bad).contains("error[E0501]") && stderr(&bad).contains("format version 77"), "{}", stderr(&bad));
 }
+
+#[test]
+fn behaviortree_cpp_loads_and_runs_the_xml() {
+    let probe = std::process::Command::new("python3").args(["-c", "import behaviortreepy"]).output();
+    if !probe.is_ok_and(|o| o.status.success()) {
+        eprintln!(
+            "skipped: BehaviorTree.CPP's Python bindings are absent (pip install behaviortreepy); .ci/run installs them"
+        );
+        return;
+    }
+    let out = kbc(&["build", "examples/02_llm_stacking/test_case.pl", "--emit", "bt-xml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let xml = stdout(&out);
+    let path = std::env::temp_dir().join(format!("kbc-cli-btcpp-{}.xml", std::process::id()));
+    std::fs::write(&path, &xml).expect("writable");
+    let run = std::process::Command::new("python3")
+        .arg("tests/support/run_btcpp.py")
+        .arg(&path)
+        .output()
+        .expect("python3 runs");
+    let _ = std::fs::remove_file(&path);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let text = String::from_utf8_lossy(&run.stdout).to_string();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("NodeStatus.SUCCESS"), "{text}");
+    let ticked: Vec<&str> = lines.next().unwrap_or("").split_whitespace().collect();
+    // Every leaf ran once, starts and ends of the plan's 15 actions among them.
+    assert_eq!(ticked.len(), xml.matches("/>").count() - xml.matches("<input_port").count(), "{text}");
+    assert_eq!(ticked.iter().filter(|n| n.ends_with("_start")).count(), 15, "{text}");
+    assert_eq!(ticked.iter().filter(|n| n.ends_with("_end")).count(), 15, "{text}");
+}
