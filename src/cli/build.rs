@@ -191,9 +191,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     let mut out = String::new();
     out.push_str("% time      event   action\n");
     for &(t, id, started) in &host.log {
-        let node = program.recorder(id);
-        let text = program.location(node).map_or_else(|| format!("e{}", id.0), |l| l.label.to_string());
-        let text = text.replace("_start(", "(");
+        let text = program.action_text(id);
         out.push_str(&format!("{}  {:<6}  {text}\n", time(t), if started { "start" } else { "done" }));
     }
     let end = time(result.end);

@@ -27,8 +27,19 @@ fn escape(text: &str) -> String {
     out
 }
 
+/// For each event, the start node that records it (ends name their action after it).
+fn start_nodes(module: &Module) -> Vec<Option<&Instr>> {
+    let mut starts = vec![None; module.events as usize];
+    for node in &module.nodes {
+        if let Instr::Start { event, .. } = node {
+            starts[event.0 as usize] = Some(node);
+        }
+    }
+    starts
+}
+
 /// A leaf's node type and its attributes; `None` for composites.
-fn leaf(module: &Module, node: &Instr) -> Option<(String, Vec<(String, String)>)> {
+fn leaf(module: &Module, starts: &[Option<&Instr>], node: &Instr) -> Option<(String, Vec<(String, String)>)> {
     let args = |args: &[Value]| -> Vec<(String, String)> {
         args.iter().enumerate().map(|(i, &a)| (format!("arg{i}"), module.value_text(a))).collect()
     };
@@ -47,10 +58,10 @@ fn leaf(module: &Module, node: &Instr) -> Option<(String, Vec<(String, String)>)
             (format!("{}_start", import(*i)), attrs)
         }
         Instr::End { event, start, .. } => {
-            let starter = module.nodes.iter().find_map(|n| match n {
-                Instr::Start { event: e, import: i, args: a, .. } if e == start => Some((import(*i), args(a))),
+            let starter = match starts[start.0 as usize] {
+                Some(Instr::Start { import: i, args: a, .. }) => Some((import(*i), args(a))),
                 _ => None,
-            });
+            };
             let (name, a) = starter.unwrap_or_else(|| ("action".to_string(), Vec::new()));
             let mut attrs =
                 vec![("event".to_string(), format!("e{}", event.0)), ("start".to_string(), format!("e{}", start.0))];
@@ -65,21 +76,18 @@ fn leaf(module: &Module, node: &Instr) -> Option<(String, Vec<(String, String)>)
     })
 }
 
-/// BehaviorTree.CPP v4 XML.
-pub fn xml(module: &Module) -> String {
-    let mut out = String::from(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"Plan\">\n  <BehaviorTree ID=\"Plan\">\n",
-    );
-    let mut models: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    fn write_node(
-        module: &Module,
-        index: usize,
-        depth: usize,
-        out: &mut String,
-        models: &mut BTreeMap<String, Vec<String>>,
-    ) {
+/// Writes the tree's nodes and collects each leaf type's ports for the `TreeNodesModel`.
+struct XmlTree<'a> {
+    module: &'a Module,
+    starts: Vec<Option<&'a Instr>>,
+    out: String,
+    models: BTreeMap<String, Vec<String>>,
+}
+
+impl XmlTree<'_> {
+    fn node(&mut self, index: usize, depth: usize) {
         let indent = "  ".repeat(depth + 2);
-        let node = &module.nodes[index];
+        let node = &self.module.nodes[index];
         match node {
             Instr::Sequence { children } | Instr::Parallel { children } => {
                 let tag = if matches!(node, Instr::Sequence { .. }) {
@@ -87,21 +95,21 @@ pub fn xml(module: &Module) -> String {
                 } else {
                     format!("<Parallel success_count=\"{}\" failure_count=\"1\">", children.len())
                 };
-                let _ = writeln!(out, "{indent}{tag}");
+                let _ = writeln!(self.out, "{indent}{tag}");
                 for child in children {
-                    write_node(module, child.0 as usize, depth + 1, out, models);
+                    self.node(child.0 as usize, depth + 1);
                 }
                 let close = if matches!(node, Instr::Sequence { .. }) { "</Sequence>" } else { "</Parallel>" };
-                let _ = writeln!(out, "{indent}{close}");
+                let _ = writeln!(self.out, "{indent}{close}");
             }
             _ => {
-                let Some((id, attrs)) = leaf(module, node) else { return };
-                let _ = write!(out, "{indent}<{}", escape(&id));
+                let Some((id, attrs)) = leaf(self.module, &self.starts, node) else { return };
+                let _ = write!(self.out, "{indent}<{}", escape(&id));
                 for (k, v) in &attrs {
-                    let _ = write!(out, " {k}=\"{}\"", escape(v));
+                    let _ = write!(self.out, " {k}=\"{}\"", escape(v));
                 }
-                out.push_str("/>\n");
-                let ports = models.entry(id).or_default();
+                self.out.push_str("/>\n");
+                let ports = self.models.entry(id).or_default();
                 for (k, _) in attrs {
                     if !ports.contains(&k) {
                         ports.push(k);
@@ -110,13 +118,22 @@ pub fn xml(module: &Module) -> String {
             }
         }
     }
+}
+
+/// BehaviorTree.CPP v4 XML.
+pub fn xml(module: &Module) -> String {
+    let out = String::from(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"Plan\">\n  <BehaviorTree ID=\"Plan\">\n",
+    );
+    let mut writer = XmlTree { module, starts: start_nodes(module), out, models: BTreeMap::new() };
     if let Some(Instr::Sequence { children }) = module.nodes.get(module.root.0 as usize)
         && children.is_empty()
     {
-        out.push_str("    <AlwaysSuccess/>\n");
+        writer.out.push_str("    <AlwaysSuccess/>\n");
     } else {
-        write_node(module, module.root.0 as usize, 0, &mut out, &mut models);
+        writer.node(module.root.0 as usize, 0);
     }
+    let XmlTree { mut out, models, .. } = writer;
     out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
     for (id, ports) in &models {
         let _ = writeln!(out, "    <Action ID=\"{}\">", escape(id));
@@ -131,13 +148,14 @@ pub fn xml(module: &Module) -> String {
 
 /// Graphviz DOT: composites as boxes, waits as diamonds, actions as ellipses.
 pub fn dot(module: &Module) -> String {
+    let starts = start_nodes(module);
     let mut out = String::from("digraph behaviour_tree {\n  rankdir=TB;\n  node [fontname=\"Helvetica\"];\n");
     for (i, node) in module.nodes.iter().enumerate() {
         let (label, shape) = match node {
             Instr::Sequence { .. } => ("sequence \u{2192}".to_string(), "box"),
             Instr::Parallel { .. } => ("parallel \u{21c9}".to_string(), "box"),
             other => {
-                let (id, attrs) = leaf(module, other).unwrap_or_default();
+                let (id, attrs) = leaf(module, &starts, other).unwrap_or_default();
                 let args: Vec<&str> =
                     attrs.iter().filter(|(k, _)| k.starts_with("arg")).map(|(_, v)| v.as_str()).collect();
                 let text = match other {

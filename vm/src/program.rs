@@ -7,8 +7,6 @@ use crate::bytecode::{EventId, FluentId, ImportId, Instr, LoadError, Module, Nod
 #[derive(Clone, Debug)]
 pub struct Program {
     pub(crate) module: Module,
-    /// For each event, the node that records it.
-    pub(crate) recorder: Vec<u32>,
     /// For each node, its debug entry, if any.
     pub(crate) location: Vec<Option<u32>>,
     /// The tree's depth (the root at 1).
@@ -18,6 +16,8 @@ pub struct Program {
     pub(crate) actions: Vec<Action>,
     /// The arguments of every action, back to back.
     pub(crate) args: Vec<Value>,
+    /// The blackboard's bits at the start: the fluents marked initial.
+    pub(crate) initial_blackboard: Vec<u64>,
 }
 
 /// The host call of a start or act node.
@@ -53,12 +53,6 @@ impl Program {
 
     /// Wraps a module that came from [`Module::decode`] (or that its encoding would pass).
     pub(crate) fn from_module(module: Module) -> Program {
-        let mut recorder = vec![0u32; module.events as usize];
-        for (i, node) in module.nodes.iter().enumerate() {
-            if let Instr::Start { event, .. } | Instr::End { event, .. } | Instr::Act { event, .. } = node {
-                recorder[event.0 as usize] = i as u32;
-            }
-        }
         let mut location = vec![None; module.nodes.len()];
         if let Some(debug) = &module.debug {
             for (i, e) in debug.entries.iter().enumerate() {
@@ -89,7 +83,13 @@ impl Program {
                 max,
             };
         }
-        Program { module, recorder, location, depth, actions, args: all_args }
+        let mut initial_blackboard = vec![0u64; module.fluents.len().div_ceil(64)];
+        for (i, f) in module.fluents.iter().enumerate() {
+            if f.initial {
+                initial_blackboard[i / 64] |= 1 << (i % 64);
+            }
+        }
+        Program { module, location, depth, actions, args: all_args, initial_blackboard }
     }
 
     /// The decoded module: tables and nodes.
@@ -112,9 +112,16 @@ impl Program {
         self.module.fluent_text(fluent)
     }
 
-    /// The node that records `event`.
-    pub fn recorder(&self, event: EventId) -> NodeRef {
-        NodeRef(self.recorder[event.0 as usize])
+    /// The call a start or act node's event stands for, as text: `grip(a1, b2)`.
+    pub fn action_text(&self, event: EventId) -> String {
+        let Some(action) = self.actions.get(event.0 as usize) else { return format!("e{}", event.0) };
+        let name = &self.module.symbols[action.name as usize];
+        let args = &self.args[action.args.0 as usize..action.args.1 as usize];
+        if args.is_empty() {
+            return name.clone();
+        }
+        let args: Vec<String> = args.iter().map(|&v| self.value_text(v)).collect();
+        format!("{name}({})", args.join(", "))
     }
 
     /// Where `node` comes from, if the program keeps debug info for it.

@@ -94,11 +94,7 @@ impl<'p> Invocation<'p> {
 
     /// The call as text: `move_block(a1, b2, 1, 1, 3, 3)`.
     pub fn text(&self) -> String {
-        if self.args().is_empty() {
-            return self.name().to_string();
-        }
-        let args: Vec<String> = (0..self.args().len()).map(|i| self.arg_text(i)).collect();
-        format!("{}({})", self.name(), args.join(", "))
+        self.program.action_text(self.id)
     }
 }
 
@@ -194,7 +190,6 @@ pub struct Vm<'p> {
     /// Per event of a start or act node: its host action is running.
     running: Vec<bool>,
     blackboard: Vec<u64>,
-    initial: Vec<u64>,
     stack: Vec<Frame>,
     budget: usize,
     finished: Option<Status>,
@@ -208,20 +203,13 @@ impl<'p> Vm<'p> {
     /// A VM at the start of `program`: nothing ticked, the blackboard at the initial state.
     pub fn new(program: &'p Program) -> Vm<'p> {
         let m = &program.module;
-        let mut initial = vec![0u64; m.fluents.len().div_ceil(64)];
-        for (i, f) in m.fluents.iter().enumerate() {
-            if f.initial {
-                initial[i / 64] |= 1 << (i % 64);
-            }
-        }
         Vm {
             program,
             status: vec![IDLE; m.nodes.len()],
             cursor: vec![0; m.nodes.len()],
             event_time: vec![NEVER; m.events as usize],
             running: vec![false; m.events as usize],
-            blackboard: initial.clone(),
-            initial,
+            blackboard: program.initial_blackboard.clone(),
             stack: Vec::with_capacity(program.depth + 1),
             budget: m.nodes.len(),
             finished: None,
@@ -253,7 +241,7 @@ impl<'p> Vm<'p> {
                 self.stack.push(Frame { node: root, next: 0, running: false });
                 None
             }
-            leaf => Some(self.tick_any_leaf(root as usize, leaf, host, now)),
+            leaf => Some(self.tick_leaf(root as usize, leaf, host, now)),
         };
         // Composites are frames on the stack; their leaf children are ticked in place, which
         // keeps a leaf tick to a status check, the leaf's own work and the host call.
@@ -316,7 +304,7 @@ impl<'p> Vm<'p> {
                                 returned = Some(self.fail(g, now, Reason::Budget));
                                 break 'walk;
                             }
-                            match self.tick_any_leaf(g, leaf, host, now) {
+                            match self.tick_leaf(g, leaf, host, now) {
                                 Status::Success => self.cursor[c] += 1,
                                 other => {
                                     inner_status = Some(other);
@@ -345,7 +333,7 @@ impl<'p> Vm<'p> {
                         descend = Some(child.0);
                         break;
                     }
-                    leaf => self.tick_any_leaf(c, leaf, host, now),
+                    leaf => self.tick_leaf(c, leaf, host, now),
                 };
                 match status {
                     Status::Success => next += 1,
@@ -392,8 +380,7 @@ impl<'p> Vm<'p> {
         status
     }
 
-    /// An end node: the hot path of a running tree (every running action's end is polled on
-    /// every tick), so it is inlined into the walk.
+    /// An end node: the hot path of a running tree, inlined into the walk.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn tick_end(
@@ -455,18 +442,20 @@ impl<'p> Vm<'p> {
         Status::Success
     }
 
-    /// Ticks any leaf, end nodes inline.
+    /// Ticks a leaf. End nodes, polled for every running action on every tick, are inlined
+    /// into the walk; the other leaves run once or twice each and stay out of line (inlining
+    /// them too costs 6 more instructions per leaf tick in `benches/tick.rs`).
     #[inline(always)]
-    fn tick_any_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
+    fn tick_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
         match instr {
             Instr::End { event, start, check, effects } => {
                 self.tick_end(node, *event, *start, check, effects, host, now)
             }
-            other => self.tick_leaf(node, other, host, now),
+            other => self.tick_other_leaf(node, other, host, now),
         }
     }
 
-    fn tick_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
+    fn tick_other_leaf(&mut self, node: usize, instr: &'p Instr, host: &mut dyn Host, now: i64) -> Status {
         match instr {
             Instr::Wait { after } => {
                 for delay in after {
@@ -498,9 +487,6 @@ impl<'p> Vm<'p> {
                 self.status[node] = SUCCEEDED;
                 Status::Success
             }
-            Instr::End { event, start, check, effects } => {
-                self.tick_end(node, *event, *start, check, effects, host, now)
-            }
             Instr::Act { event, check, effects, .. } => {
                 let invocation = self.invocation(event.0 as usize);
                 if self.cursor[node] == 0 {
@@ -529,7 +515,9 @@ impl<'p> Vm<'p> {
                     }
                 }
             }
-            Instr::Sequence { .. } | Instr::Parallel { .. } => Status::Failure, // not leaves
+            Instr::End { .. } | Instr::Sequence { .. } | Instr::Parallel { .. } => {
+                unreachable!("`tick_leaf` ticks ends, the walk composites")
+            }
         }
     }
 
@@ -607,7 +595,7 @@ impl<'p> Vm<'p> {
         self.cursor.fill(0);
         self.event_time.fill(NEVER);
         self.running.fill(false);
-        self.blackboard.copy_from_slice(&self.initial);
+        self.blackboard.copy_from_slice(&self.program.initial_blackboard);
         self.finished = None;
         self.failure = None;
         self.deadline = None;

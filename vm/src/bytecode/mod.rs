@@ -634,28 +634,24 @@ fn verify_tree(nodes: &[Instr], root: usize, offsets: &[usize], code_base: usize
 fn verify_actions(nodes: &[Instr], cx: &Context, offsets: &[usize]) -> Result<(), LoadError> {
     let mut recorder: Vec<Option<usize>> = vec![None; cx.events];
     for (i, node) in nodes.iter().enumerate() {
+        let calls = |import: &ImportId, args: &[Value]| {
+            let expected = cx.imports[import.0 as usize].arity;
+            if args.len() == expected as usize {
+                Ok(())
+            } else {
+                Err(LoadError::new(offsets[i], LoadErrorKind::ArityMismatch { expected, found: args.len() }))
+            }
+        };
         let event = match node {
             Instr::Start { event, import, args, min, max, .. } => {
-                let expected = cx.imports[import.0 as usize].arity;
-                if args.len() != expected as usize {
-                    return Err(LoadError::new(
-                        offsets[i],
-                        LoadErrorKind::ArityMismatch { expected, found: args.len() },
-                    ));
-                }
+                calls(import, args)?;
                 if max.0.is_some_and(|m| m < min.0) {
                     return Err(LoadError::new(offsets[i], LoadErrorKind::BadTime(min.0)));
                 }
                 event
             }
             Instr::Act { event, import, args, .. } => {
-                let expected = cx.imports[import.0 as usize].arity;
-                if args.len() != expected as usize {
-                    return Err(LoadError::new(
-                        offsets[i],
-                        LoadErrorKind::ArityMismatch { expected, found: args.len() },
-                    ));
-                }
+                calls(import, args)?;
                 event
             }
             Instr::End { event, .. } => event,
