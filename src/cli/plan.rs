@@ -29,7 +29,7 @@ use crate::validate;
 /// What finding and scheduling a plan needs; `kbc plan` and `kbc build` share it.
 #[derive(clap::Args)]
 pub(super) struct PlanningArgs {
-    /// KB and goal files.
+    /// KB and goal files (`kbc run` also takes a single bytecode file).
     #[arg(required = true, value_name = "FILE")]
     pub(super) files: Vec<PathBuf>,
     /// The problem to plan, when the files define several.
@@ -65,29 +65,6 @@ pub(super) struct PlanningArgs {
     /// makespan, and keep the best (heuristic search).
     #[arg(long, value_name = "SECONDS")]
     pub(super) improve: Option<f64>,
-}
-
-impl PlanningArgs {
-    /// The defaults, as `kbc plan FILES [--problem NAME]` would use them.
-    pub(super) fn for_files(
-        files: Vec<PathBuf>,
-        problem: Option<String>,
-        message_format: MessageFormat,
-    ) -> PlanningArgs {
-        PlanningArgs {
-            files,
-            problem,
-            search: SearchArg::Heuristic,
-            max_depth: None,
-            max_states: 1_000_000,
-            timeout: None,
-            max_memory: 2048,
-            message_format,
-            plan: None,
-            retries: 0,
-            improve: None,
-        }
-    }
 }
 
 #[derive(clap::Args)]
