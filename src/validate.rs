@@ -284,6 +284,25 @@ struct Miss {
     label: &'static str,
 }
 
+/// One schema tried on one state: what stays fixed while its conditions are matched.
+#[derive(Clone, Copy)]
+struct Attempt<'a> {
+    state: &'a State,
+    action: &'a Action,
+    /// The schema's index in `Kb::actions`.
+    index: usize,
+    /// For an end, the running start it ends.
+    ends: Option<&'a str>,
+}
+
+/// What trying a step's schemas found: the states it leads to, and the first reason a schema
+/// did not apply.
+#[derive(Default)]
+struct Found {
+    results: Vec<State>,
+    miss: Option<Miss>,
+}
+
 impl Replayer<'_, '_> {
     fn initial_state(&self) -> State {
         let problem = &self.kb.problems[self.problem];
@@ -298,8 +317,7 @@ impl Replayer<'_, '_> {
 
     /// Every state `step` can lead to, or why it leads nowhere.
     fn successors(&mut self, state: &State, step: &Term) -> Result<Vec<State>, Option<Miss>> {
-        let mut results: Vec<State> = Vec::new();
-        let mut miss: Option<Miss> = None;
+        let mut found = Found::default();
         for (index, action) in self.kb.actions.iter().enumerate() {
             if action.level != Level::High {
                 continue;
@@ -311,7 +329,7 @@ impl Replayer<'_, '_> {
             let running = if action.snap == Snap::End {
                 let started = start_key(self.interner, action, &bindings);
                 if !state.running.contains(&started) {
-                    miss.get_or_insert(Miss {
+                    found.miss.get_or_insert(Miss {
                         action: index,
                         reason: format!("it ends `{started}`, which is not running"),
                         span: action.name.span,
@@ -323,10 +341,11 @@ impl Replayer<'_, '_> {
             } else {
                 None
             };
-            let before = results.len();
-            self.valid(state, action, index, 0, &mut bindings, &mut results, &mut miss, running.as_deref());
-            if results.len() == before && miss.as_ref().is_none_or(|m| m.action != index) {
-                miss.get_or_insert(Miss {
+            let before = found.results.len();
+            let attempt = Attempt { state, action, index, ends: running.as_deref() };
+            self.valid(&attempt, 0, &mut bindings, &mut found);
+            if found.results.len() == before && found.miss.as_ref().is_none_or(|m| m.action != index) {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "its conditions do not hold".into(),
                     span: action.name.span,
@@ -334,6 +353,7 @@ impl Replayer<'_, '_> {
                 });
             }
         }
+        let Found { mut results, miss } = found;
         if results.is_empty() {
             return Err(miss);
         }
@@ -342,32 +362,23 @@ impl Replayer<'_, '_> {
         Ok(results)
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn valid(
-        &mut self,
-        state: &State,
-        action: &Action,
-        index: usize,
-        position: usize,
-        bindings: &mut Bindings,
-        results: &mut Vec<State>,
-        miss: &mut Option<Miss>,
-        ends: Option<&str>,
-    ) {
+    /// Matches the Valid literals of `at.action` from `position` on against the state.
+    fn valid(&mut self, at: &Attempt<'_>, position: usize, bindings: &mut Bindings, found: &mut Found) {
+        let Attempt { state, action, index, .. } = *at;
         let Some(literal) = action.valid.get(position) else {
-            return self.on_kb(state, action, index, bindings, results, miss, ends);
+            return self.on_kb(at, bindings, found);
         };
         let mut matched = false;
         for fact in &state.terms {
             let mut attempt = bindings.clone();
             if matches(&literal.term, fact, &mut attempt) {
                 matched = true;
-                self.valid(state, action, index, position + 1, &mut attempt, results, miss, ends);
+                self.valid(at, position + 1, &mut attempt, found);
             }
         }
         if !matched {
             let shown = hir::term_to_string(self.interner, &resolve(&literal.term, bindings), &action.vars);
-            miss.get_or_insert(Miss {
+            found.miss.get_or_insert(Miss {
                 action: index,
                 reason: format!("its Valid condition `{shown}` is not in the state"),
                 span: literal.span,
@@ -376,17 +387,9 @@ impl Replayer<'_, '_> {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn on_kb(
-        &mut self,
-        state: &State,
-        action: &Action,
-        index: usize,
-        bindings: &Bindings,
-        results: &mut Vec<State>,
-        miss: &mut Option<Miss>,
-        ends: Option<&str>,
-    ) {
+    /// Proves the OnKB goals of `at.action`, one `finish` per solution.
+    fn on_kb(&mut self, at: &Attempt<'_>, bindings: &Bindings, found: &mut Found) {
+        let Attempt { action, index, .. } = *at;
         let mut solutions: Vec<Bindings> = Vec::new();
         if action.on_kb.is_empty() {
             solutions.push(bindings.clone());
@@ -423,7 +426,7 @@ impl Replayer<'_, '_> {
                 Next::More
             });
             if let Err(error) = outcome {
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: format!("proving its OnKB goals failed: {}", error.message(self.interner)),
                     span: action.slots[4],
@@ -432,7 +435,7 @@ impl Replayer<'_, '_> {
                 return;
             }
             if solutions.is_empty() {
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "its OnKB goals are not provable".into(),
                     span: action.slots[4],
@@ -441,26 +444,18 @@ impl Replayer<'_, '_> {
             }
         }
         for solution in solutions {
-            self.finish(state, action, index, &solution, results, miss, ends);
+            self.finish(at, &solution, found);
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn finish(
-        &mut self,
-        state: &State,
-        action: &Action,
-        index: usize,
-        bindings: &Bindings,
-        results: &mut Vec<State>,
-        miss: &mut Option<Miss>,
-        ends: Option<&str>,
-    ) {
+    /// Checks the Invalid and InvalidAtEnd lists, then applies the effects.
+    fn finish(&mut self, at: &Attempt<'_>, bindings: &Bindings, found: &mut Found) {
+        let Attempt { state, action, index, ends } = *at;
         for literal in &action.invalid {
             let forbidden = resolve(&literal.term, bindings);
             if let Some(fact) = state.terms.iter().find(|f| unifiable(&forbidden, f)) {
                 let shown = key(self.interner, fact);
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: format!("the state has `{shown}`, which its Invalid list forbids"),
                     span: literal.span,
@@ -473,7 +468,7 @@ impl Replayer<'_, '_> {
         for literal in &action.invalid_at_end {
             let forbidden = resolve(&literal.term, bindings);
             if problem.goal.iter().any(|g| unifiable(&forbidden, &g.term)) {
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "its InvalidAtEnd list meets a goal literal".into(),
                     span: literal.span,
@@ -486,7 +481,7 @@ impl Replayer<'_, '_> {
         for effect in &action.effects {
             let fact = resolve(&effect.literal.term, bindings);
             if !fact.is_ground() {
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "an effect is not ground".into(),
                     span: effect.span,
@@ -522,7 +517,7 @@ impl Replayer<'_, '_> {
         next.terms.sort_by_key(|t| key(self.interner, t));
         next.running.sort();
         next.via = Some((index, bindings.clone()));
-        results.push(next);
+        found.results.push(next);
     }
 
     fn goal_reached(&self, state: &State) -> bool {
