@@ -181,17 +181,17 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     };
     let result = execute::run(&program, &mut host, max_time, args.max_ticks);
     // The timeline: each host start and completion.
-    let time = |t: i64| format!("{:>9.3}", t as f64 / scale);
+    let time = |t: i64| execute::format_time(&program, t);
     let mut out = String::new();
     out.push_str("% time      event   action\n");
     for &(t, id, started) in &host.log {
         let text = program.action_text(id);
-        out.push_str(&format!("{}  {:<6}  {text}\n", time(t), if started { "start" } else { "done" }));
+        out.push_str(&format!("{:>9}  {:<6}  {text}\n", time(t), if started { "start" } else { "done" }));
     }
     let end = time(result.end);
     let outcome_line = match &result.outcome {
-        Outcome::Success => format!("% success at {}; {} ticks", end.trim(), result.ticks),
-        _ => format!("% stopped at {}; {} ticks", end.trim(), result.ticks),
+        Outcome::Success => format!("% success at {}; {} ticks", end, result.ticks),
+        _ => format!("% stopped at {}; {} ticks", end, result.ticks),
     };
     out.push_str(&outcome_line);
     out.push('\n');
@@ -202,14 +202,14 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         Outcome::Stuck => Some(
             Diagnostic::error(
                 codes::RUN_FAILED,
-                format!("the tree is stuck at time {}: it waits for an event no node will record", end.trim()),
+                format!("the tree is stuck at time {}: it waits for an event no node will record", end),
             )
             .with_help("the program is malformed; rebuild it with `kbc build`"),
         ),
         Outcome::Budget => Some(
             Diagnostic::error(
                 codes::RUN_FAILED,
-                format!("the run stopped at time {} without finishing: it passed its budget", end.trim()),
+                format!("the run stopped at time {} without finishing: it passed its budget", end),
             )
             .with_note(format!(
                 "the budget: {} time units (`--max-time`), {} ticks (`--max-ticks`)",
@@ -235,8 +235,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
             diagnostics.push(Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
             return fail(&db, &diagnostics);
         }
-        let _ =
-            writeln!(std::io::stdout().lock(), "% the executed timeline is valid for the KB (makespan {})", end.trim());
+        let _ = writeln!(std::io::stdout().lock(), "% the executed timeline is valid for the KB (makespan {})", end);
     }
     ExitCode::SUCCESS
 }
