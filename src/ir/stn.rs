@@ -110,6 +110,17 @@ pub struct Stn {
     pub durations: Vec<Option<Bounds>>,
 }
 
+impl TimePoint {
+    /// The name dumps and pictures give the point: `origin`, or `aN` for step N (from 1), as
+    /// the paper's table of achievers numbers actions.
+    pub fn name(self) -> String {
+        match self {
+            TimePoint::Origin => "origin".to_string(),
+            TimePoint::Step(i) => format!("a{}", i + 1),
+        }
+    }
+}
+
 impl Stn {
     /// The number of time points, the origin included.
     pub fn len(&self) -> usize {
@@ -139,10 +150,6 @@ pub fn format_time(t: i64) -> String {
 pub fn print(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
     let mut out = String::new();
     let no_vars = VarTable::default();
-    let name = |p: TimePoint| match p {
-        TimePoint::Origin => "origin".to_string(),
-        TimePoint::Step(i) => format!("a{}", i + 1),
-    };
     let _ = writeln!(
         out,
         "% STN: {} time points, {} constraints (times in thousandths)",
@@ -166,7 +173,7 @@ pub fn print(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
         if edge.weight().kind == EdgeKind::AfterOrigin {
             continue;
         }
-        let _ = writeln!(out, "{} - {} <= {}", name(to), name(from), edge.weight().weight);
+        let _ = writeln!(out, "{} - {} <= {}", to.name(), from.name(), edge.weight().weight);
     }
     out
 }
@@ -212,10 +219,6 @@ pub fn print_minimal(
     mut row: impl FnMut(usize) -> (Vec<Option<i64>>, Vec<Option<i64>>),
     out: &mut dyn std::io::Write,
 ) -> std::io::Result<()> {
-    let name = |p: TimePoint| match p {
-        TimePoint::Origin => "origin".to_string(),
-        TimePoint::Step(i) => format!("a{}", i + 1),
-    };
     // Origin first, then the steps in plan order, as `--dump-after stn` names them.
     let order: Vec<NodeIndex> = std::iter::once(stn.origin).chain(stn.nodes.iter().copied()).collect();
     writeln!(
@@ -228,7 +231,7 @@ pub fn print_minimal(
         for &y in &order[k + 1..] {
             let lo = earlier[y.index()].map_or("-inf".to_string(), |d| (-d).to_string());
             let hi = later[y.index()].map_or("inf".to_string(), |d| d.to_string());
-            writeln!(out, "{} {} [{lo}, {hi}]", name(stn.graph[x]), name(stn.graph[y]))?;
+            writeln!(out, "{} {} [{lo}, {hi}]", stn.graph[x].name(), stn.graph[y].name())?;
         }
     }
     Ok(())

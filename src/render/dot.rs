@@ -9,7 +9,7 @@ use petgraph::visit::EdgeRef;
 use crate::intern::Interner;
 use crate::ir::hir::{self, VarTable};
 use crate::ir::pop::{Pop, Reason};
-use crate::ir::stn::{EdgeKind, Stn, TimePoint, format_time};
+use crate::ir::stn::{EdgeKind, Stn, format_time};
 
 /// A DOT string literal.
 fn quote(text: &str) -> String {
@@ -62,10 +62,6 @@ pub fn pop(interner: &Interner, pop: &Pop) -> String {
 /// units. The edges from every point to the origin are left out.
 pub fn stn(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
     let mut out = String::from("digraph stn {\n  node [shape=box, fontname=\"monospace\"];\n");
-    let name = |p: TimePoint| match p {
-        TimePoint::Origin => "origin".to_string(),
-        TimePoint::Step(i) => format!("a{}", i + 1),
-    };
     let _ = writeln!(out, "  origin [label=\"origin (t = 0)\", shape=ellipse];");
     for i in 0..pop.steps.len() {
         let _ = writeln!(out, "  a{} [label={}];", i + 1, quote(&step_label(interner, pop, i)));
@@ -79,7 +75,7 @@ pub fn stn(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
         };
         let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
         let _ =
-            writeln!(out, "  {} -> {} [label={}{style}];", name(from), name(to), quote(&format_time(weight.weight)));
+            writeln!(out, "  {} -> {} [label={}{style}];", from.name(), to.name(), quote(&format_time(weight.weight)));
     }
     out.push_str("}\n");
     out
