@@ -150,10 +150,7 @@ fn plan_output_is_deterministic_and_validates() {
     for _ in 0..2 {
         assert_eq!(plan_lines(&stdout(&kbc(&["plan", "examples/02_llm_stacking/test_case.pl"]))), plan_lines(&text));
     }
-    let path = std::env::temp_dir().join(format!("kbc-cli-plan-{}.txt", std::process::id()));
-    std::fs::write(&path, &text).expect("writable temporary file");
-    let check = kbc(&["validate", "examples/02_llm_stacking/test_case.pl", path.to_str().expect("UTF-8 path")]);
-    let _ = std::fs::remove_file(&path);
+    let check = validate_text("examples/02_llm_stacking/test_case.pl", &text, "plan");
     assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
     assert!(stdout(&check).starts_with("the plan is valid: its "), "{}", stdout(&check));
 }
@@ -213,10 +210,7 @@ fn schedule_output_is_a_timed_plan_that_validates() {
     let first = text.lines().find(|l| !l.starts_with('%')).expect("a timed action");
     assert!(first.starts_with("0.000: (grip a"), "{text}");
     assert!(first.ends_with(']'), "{text}");
-    let path = std::env::temp_dir().join(format!("kbc-cli-schedule-{}.txt", std::process::id()));
-    std::fs::write(&path, &text).expect("writable temporary file");
-    let check = kbc(&["validate", "examples/02_llm_stacking/test_case.pl", path.to_str().expect("UTF-8 path")]);
-    let _ = std::fs::remove_file(&path);
+    let check = validate_text("examples/02_llm_stacking/test_case.pl", &text, "schedule");
     assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
     assert!(stdout(&check).starts_with("the timed plan is valid"), "{}", stdout(&check));
 }
@@ -360,4 +354,13 @@ fn behaviortree_cpp_loads_and_runs_the_xml() {
     assert_eq!(ticked.len(), xml.matches("/>").count() - xml.matches("<input_port").count(), "{text}");
     assert_eq!(ticked.iter().filter(|n| n.ends_with("_start")).count(), 15, "{text}");
     assert_eq!(ticked.iter().filter(|n| n.ends_with("_end")).count(), 15, "{text}");
+}
+
+/// `kbc validate KB FILE` on `text` written to a temporary file named after `tag`.
+fn validate_text(kb: &str, text: &str, tag: &str) -> std::process::Output {
+    let path = std::env::temp_dir().join(format!("kbc-cli-{tag}-{}.txt", std::process::id()));
+    std::fs::write(&path, text).expect("writable temporary file");
+    let check = kbc(&["validate", kb, path.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&path);
+    check
 }
