@@ -26,6 +26,7 @@
 //!         Instr::End { event: EventId(1), start: EventId(0), check: Check::default(), effects: vec![] },
 //!     ],
 //!     debug: None,
+//!     refinements: Vec::new(),
 //! };
 //! let program = Program::load(&module.encode()).expect("a valid program");
 //!
@@ -59,6 +60,9 @@ pub mod bytecode;
 mod program;
 mod vm;
 
-pub use bytecode::LoadError;
+#[cfg(feature = "sim")]
+pub mod sim;
+
+pub use bytecode::{LoadError, Value};
 pub use program::{Location, Program};
 pub use vm::{Failure, Host, Invocation, Poll, Reason, Status, Vm};

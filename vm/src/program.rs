@@ -1,6 +1,6 @@
 //! A loaded, verified program and the tables the VM derives from it once.
 
-use crate::bytecode::{EventId, FluentId, ImportId, Instr, LoadError, Module, NodeRef, Value};
+use crate::bytecode::{Call, EventId, FluentId, ImportId, Instr, LoadError, Module, NodeRef, Value};
 
 /// A verified program, ready to run. Loading checks the whole file ([`Module::decode`]);
 /// nothing the VM does afterwards can index out of bounds.
@@ -30,6 +30,10 @@ pub(crate) struct Action {
     pub(crate) args: (u32, u32),
     pub(crate) min: i64,
     pub(crate) max: Option<i64>,
+    /// Its refinement's index in `Module::refinements`, if it has one.
+    pub(crate) refinement: Option<u32>,
+    /// For a durative action: the refinement of its end node, if it has one.
+    pub(crate) end_refinement: Option<u32>,
 }
 
 /// Where a node comes from in the KB, from the debug info.
@@ -67,7 +71,11 @@ impl Program {
         }
         let mut actions = vec![Action::default(); module.events as usize];
         let mut all_args = Vec::new();
-        for node in &module.nodes {
+        let mut refinement_of = vec![None; module.nodes.len()];
+        for (i, r) in module.refinements.iter().enumerate() {
+            refinement_of[r.node.0 as usize] = Some(i as u32);
+        }
+        for (node_index, node) in module.nodes.iter().enumerate() {
             let (event, import, args, min, max) = match node {
                 Instr::Start { event, import, args, min, max, .. } => (event, import, args, min.0, max.0),
                 Instr::Act { event, import, args, .. } => (event, import, args, 0, None),
@@ -81,7 +89,14 @@ impl Program {
                 args: (from, all_args.len() as u32),
                 min,
                 max,
+                refinement: refinement_of[node_index],
+                end_refinement: None,
             };
+        }
+        for (node_index, node) in module.nodes.iter().enumerate() {
+            if let Instr::End { start, .. } = node {
+                actions[start.0 as usize].end_refinement = refinement_of[node_index];
+            }
         }
         let mut initial_blackboard = vec![0u64; module.fluents.len().div_ceil(64)];
         for (i, f) in module.fluents.iter().enumerate() {
@@ -121,6 +136,34 @@ impl Program {
             return name.clone();
         }
         let args: Vec<String> = args.iter().map(|&v| self.value_text(v)).collect();
+        format!("{name}({})", args.join(", "))
+    }
+
+    /// The arm-level steps an action node's event is refined into (empty without a refinement).
+    pub fn steps(&self, event: EventId) -> &[Call] {
+        self.actions
+            .get(event.0 as usize)
+            .and_then(|a| a.refinement)
+            .map_or(&[], |r| &self.module.refinements[r as usize].steps)
+    }
+
+    /// The arm-level steps of the end of the durative action started at `start` (empty
+    /// without a refinement of its end node). A host runs them when the end node first
+    /// polls the action, which is when the tree allows the action to end.
+    pub fn end_steps(&self, start: EventId) -> &[Call] {
+        self.actions
+            .get(start.0 as usize)
+            .and_then(|a| a.end_refinement)
+            .map_or(&[], |r| &self.module.refinements[r as usize].steps)
+    }
+
+    /// A step as text: `move_over(a1, 3, 3)`.
+    pub fn call_text(&self, call: &Call) -> String {
+        let name = self.import_name(call.import);
+        if call.args.is_empty() {
+            return name.to_string();
+        }
+        let args: Vec<String> = call.args.iter().map(|&v| self.value_text(v)).collect();
         format!("{name}({})", args.join(", "))
     }
 

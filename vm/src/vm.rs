@@ -96,6 +96,24 @@ impl<'p> Invocation<'p> {
     pub fn text(&self) -> String {
         self.program.action_text(self.id)
     }
+
+    /// The arm-level steps the action is refined into, in order (empty if the program has no
+    /// refinement for it). A host that runs the steps rather than the action itself names
+    /// them with [`Program::call_text`] and [`Program::import_name`].
+    pub fn steps(&self) -> &'p [crate::bytecode::Call] {
+        self.program.steps(self.id)
+    }
+
+    /// The arm-level steps of the action's end: the host runs them once the end node polls
+    /// (the tree polls an action only when every step ordered before its end is done).
+    pub fn end_steps(&self) -> &'p [crate::bytecode::Call] {
+        self.program.end_steps(self.id)
+    }
+
+    /// The program the action belongs to.
+    pub fn program(&self) -> &'p Program {
+        self.program
+    }
 }
 
 /// The robot side: runs the actions the tree starts. Times are program time units.

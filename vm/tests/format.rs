@@ -3,8 +3,8 @@
 
 use kbvm::Program;
 use kbvm::bytecode::{
-    Check, DebugEntry, DebugInfo, Delay, Effect, EventId, Fluent, FluentId, Import, ImportId, Instr, LoadErrorKind,
-    MaxTime, Module, NodeRef, Time, Value,
+    Call, Check, DebugEntry, DebugInfo, Delay, Effect, EventId, Fluent, FluentId, Import, ImportId, Instr,
+    LoadErrorKind, MaxTime, Module, NodeRef, Refinement, Time, Value,
 };
 use proptest::prelude::*;
 
@@ -49,6 +49,16 @@ fn sample() -> Module {
             files: vec![4],
             entries: vec![DebugEntry { node: NodeRef(2), file: 0, line: 3, column: 1, label: 5 }],
         }),
+        refinements: vec![
+            Refinement {
+                node: NodeRef(2),
+                steps: vec![
+                    Call { import: ImportId(1), args: vec![] },
+                    Call { import: ImportId(0), args: vec![Value::Atom(1), Value::Int(-2)] },
+                ],
+            },
+            Refinement { node: NodeRef(5), steps: vec![Call { import: ImportId(1), args: vec![] }] },
+        ],
     }
 }
 
@@ -221,6 +231,7 @@ fn random_module(seed: u64) -> Module {
         root: NodeRef(0),
         nodes: vec![Instr::Parallel { children: vec![] }],
         debug: Some(DebugInfo { files: vec![3], entries: vec![] }),
+        refinements: Vec::new(),
     };
     let nf = m.fluents.len() as u64;
     fn branch(m: &mut Module, next: &mut dyn FnMut(u64) -> u64, nf: u64, depth: u32) -> NodeRef {
@@ -279,6 +290,15 @@ fn random_module(seed: u64) -> Module {
                         effects: effects.clone(),
                     });
                     m.nodes.push(Instr::End { event: EventId(event + 1), start: EventId(event), check, effects });
+                    if next(2) == 0 {
+                        let steps = (0..1 + next(3))
+                            .map(|_| match next(2) {
+                                0 => Call { import: ImportId(1), args: vec![] },
+                                _ => Call { import: ImportId(0), args: vec![Value::Int(next(9) as i64)] },
+                            })
+                            .collect();
+                        m.refinements.push(Refinement { node: NodeRef(start_at), steps });
+                    }
                     children.push(NodeRef(start_at));
                     children.push(NodeRef(start_at + 1));
                     if let Some(debug) = &mut m.debug {
@@ -323,4 +343,40 @@ fn random_modules_use_every_opcode() {
     }
     let all: std::collections::BTreeSet<u8> = Instr::OPCODES.iter().map(|&(op, _)| op).collect();
     assert_eq!(used, all);
+}
+
+#[test]
+fn refinements_are_verified() {
+    let refused = |change: &dyn Fn(&mut Module)| {
+        let mut m = sample();
+        change(&mut m);
+        kind(&m.encode())
+    };
+    assert_eq!(
+        refused(&|m| m.refinements[0].node = NodeRef(1)),
+        LoadErrorKind::BadRefinement("refines a node that is not an action")
+    );
+    assert_eq!(refused(&|m| m.refinements.swap(0, 1)), LoadErrorKind::BadRefinement("entries out of node order"));
+    assert_eq!(
+        refused(&|m| m.refinements[1].steps.clear()),
+        LoadErrorKind::BadRefinement("a refinement without steps")
+    );
+    assert_eq!(
+        refused(&|m| m.refinements[0].steps[1].args.pop().map_or((), drop)),
+        LoadErrorKind::ArityMismatch { expected: 2, found: 1 }
+    );
+    assert!(matches!(
+        refused(&|m| m.refinements[0].steps[0].import = ImportId(7)),
+        LoadErrorKind::IndexOutOfRange { what: "import", index: 7, .. }
+    ));
+}
+
+#[test]
+fn a_program_gives_each_action_its_steps() {
+    let program = Program::load(&sample().encode()).expect("loads");
+    let steps = program.steps(EventId(0));
+    let texts: Vec<String> = steps.iter().map(|c| program.call_text(c)).collect();
+    assert_eq!(texts, ["beep", "grip(a1, -2)"]);
+    assert!(program.steps(EventId(1)).is_empty(), "an end event has no steps");
+    assert_eq!(program.steps(EventId(2)).len(), 1);
 }

@@ -74,6 +74,7 @@ fn ticking_a_running_tree_allocates_nothing() {
             end(5, 4),
         ],
         debug: None,
+        refinements: Vec::new(),
     };
     let program = Program::load(&module.encode()).expect("valid");
     let mut vm = Vm::new(&program);

@@ -72,6 +72,7 @@ fn program(nodes: Vec<Instr>, events: u32, fluents: Vec<Fluent>) -> Program {
         root: NodeRef(0),
         nodes,
         debug: None,
+        refinements: Vec::new(),
     };
     Program::load(&module.encode()).expect("a valid program")
 }

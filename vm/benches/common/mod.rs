@@ -45,6 +45,7 @@ pub fn program(actions: usize) -> Module {
         root: NodeRef(0),
         nodes,
         debug: None,
+        refinements: Vec::new(),
     }
 }
 

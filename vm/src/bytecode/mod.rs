@@ -24,7 +24,7 @@ pub const MAGIC: [u8; 4] = *b"KBBC";
 
 /// The exact format version a loader accepts. A loader refuses every other version rather
 /// than guessing at compatibility.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 
 /// The deepest tree a loader accepts (the root at depth 1).
 pub const MAX_DEPTH: usize = 4096;
@@ -49,6 +49,8 @@ pub enum SectionKind {
     Code = 4,
     /// Optional: each action node's KB source location and text.
     Debug = 5,
+    /// Optional: the arm-level steps a start or act node's action is refined into.
+    Refinements = 6,
 }
 
 impl SectionKind {
@@ -59,6 +61,7 @@ impl SectionKind {
             3 => SectionKind::Fluents,
             4 => SectionKind::Code,
             5 => SectionKind::Debug,
+            6 => SectionKind::Refinements,
             _ => return None,
         })
     }
@@ -108,6 +111,26 @@ pub struct DebugInfo {
     pub entries: Vec<DebugEntry>,
 }
 
+/// A host call with ground arguments: one arm-level step of a refinement.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Call {
+    /// The host action.
+    pub import: ImportId,
+    /// Its arguments, as many as the import's arity.
+    pub args: Vec<Value>,
+}
+
+/// The arm-level steps that carry out the action of a start, end or act node (from the KB's
+/// `mapping/2`): a host that provides the steps but not the high-level action runs them in
+/// order instead; an end node's steps once the tree allows the action to end.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Refinement {
+    /// The start, end or act node.
+    pub node: NodeRef,
+    /// The steps, at least one.
+    pub steps: Vec<Call>,
+}
+
 /// A whole program: what a compiler builds and [`Module::encode`] writes, and what
 /// [`Module::decode`] gives back after verification (`decode(encode(m)) == m`).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -128,6 +151,9 @@ pub struct Module {
     pub nodes: Vec<Instr>,
     /// Source locations, if kept.
     pub debug: Option<DebugInfo>,
+    /// Refinements of action nodes into arm-level steps, by ascending node (empty: the
+    /// section is left out).
+    pub refinements: Vec<Refinement>,
 }
 
 /// Why a file was refused, and where.
@@ -211,6 +237,8 @@ pub enum LoadErrorKind {
     BadEvent(&'static str, u32),
     /// A time scale of zero.
     BadTimeScale,
+    /// A refinement entry that breaks a rule of its section.
+    BadRefinement(&'static str),
 }
 
 impl LoadError {
@@ -257,6 +285,7 @@ impl fmt::Display for LoadError {
             }
             LoadErrorKind::BadEvent(why, e) => write!(f, "event e{e}: {why}"),
             LoadErrorKind::BadTimeScale => write!(f, "the time scale is zero"),
+            LoadErrorKind::BadRefinement(why) => write!(f, "bad refinement: {why}"),
         }
     }
 }
@@ -343,6 +372,22 @@ impl Module {
             }
             sections.push((SectionKind::Debug, bytes));
         }
+        if !self.refinements.is_empty() {
+            let mut bytes = Vec::new();
+            put_u32(&mut bytes, self.refinements.len() as u32);
+            for r in &self.refinements {
+                put_u32(&mut bytes, offsets[r.node.0 as usize]);
+                put_u32(&mut bytes, r.steps.len() as u32);
+                for step in &r.steps {
+                    put_u32(&mut bytes, step.import.0);
+                    put_u32(&mut bytes, step.args.len() as u32);
+                    for arg in &step.args {
+                        arg.encode(&mut bytes, &offsets);
+                    }
+                }
+            }
+            sections.push((SectionKind::Refinements, bytes));
+        }
         let mut out = Vec::new();
         out.extend_from_slice(&MAGIC);
         put_u16(&mut out, FORMAT_VERSION);
@@ -384,7 +429,7 @@ impl Module {
             return Err(LoadError::new(12, LoadErrorKind::Reserved));
         }
         // The section table: known kinds, each once, in order, back to back, up to the end.
-        let mut sections: [Option<(usize, usize)>; 6] = [None; 6];
+        let mut sections: [Option<(usize, usize)>; 7] = [None; 7];
         let mut expected_offset = HEADER_SIZE + SECTION_ENTRY_SIZE * count;
         let mut previous_kind = 0u32;
         for _ in 0..count {
@@ -557,7 +602,26 @@ impl Module {
                 Some(DebugInfo { files, entries })
             }
         };
-        Ok(Module { symbols, imports: cx.imports, fluents, events, time_scale, root: NodeRef(root), nodes, debug })
+        let refinements = match sections[SectionKind::Refinements as usize] {
+            None => Vec::new(),
+            Some(_) => {
+                let mut r = section(SectionKind::Refinements)?;
+                let refinements = decode_refinements(&mut r, &cx, &nodes)?;
+                finished(&r)?;
+                refinements
+            }
+        };
+        Ok(Module {
+            symbols,
+            imports: cx.imports,
+            fluents,
+            events,
+            time_scale,
+            root: NodeRef(root),
+            nodes,
+            debug,
+            refinements,
+        })
     }
 
     /// A readable listing of the module (`kbc disasm`).
@@ -591,6 +655,59 @@ impl Module {
             _ => &[],
         }
     }
+}
+
+/// The refinements section: entries on action nodes, in ascending node order (so each
+/// node at most once), each with at least one step whose arguments match its import.
+fn decode_refinements(r: &mut Reader<'_>, cx: &Context, nodes: &[Instr]) -> Result<Vec<Refinement>, LoadError> {
+    let n = r.count(8)?;
+    let mut refinements = Vec::with_capacity(n);
+    let mut previous: Option<u32> = None;
+    for _ in 0..n {
+        let at = r.position();
+        let offset = r.u32()?;
+        let node = cx.node_at(offset).ok_or(LoadError::new(at, LoadErrorKind::NotANode { offset }))?;
+        if !matches!(nodes[node as usize], Instr::Start { .. } | Instr::End { .. } | Instr::Act { .. }) {
+            return Err(LoadError::new(at, LoadErrorKind::BadRefinement("refines a node that is not an action")));
+        }
+        if previous.is_some_and(|p| p >= node) {
+            return Err(LoadError::new(at, LoadErrorKind::BadRefinement("entries out of node order")));
+        }
+        previous = Some(node);
+        let steps_at = r.position();
+        let count = r.count(8)?;
+        if count == 0 {
+            return Err(LoadError::new(steps_at, LoadErrorKind::BadRefinement("a refinement without steps")));
+        }
+        let mut steps = Vec::with_capacity(count);
+        for _ in 0..count {
+            let at = r.position();
+            let import = r.u32()?;
+            let Some(declared) = cx.imports.get(import as usize) else {
+                return Err(LoadError::new(
+                    at,
+                    LoadErrorKind::IndexOutOfRange { what: "import", index: import as u64, len: cx.imports.len() },
+                ));
+            };
+            let arity = r.count(Value::MIN_SIZE)?;
+            if arity != declared.arity as usize {
+                return Err(LoadError::new(
+                    at,
+                    LoadErrorKind::ArityMismatch { expected: declared.arity, found: arity },
+                ));
+            }
+            let mut args = Vec::with_capacity(arity);
+            for _ in 0..arity {
+                let at = r.position();
+                let mut value = Value::decode(r)?;
+                value.check(cx, at)?;
+                args.push(value);
+            }
+            steps.push(Call { import: ImportId(import), args });
+        }
+        refinements.push(Refinement { node: NodeRef(node), steps });
+    }
+    Ok(refinements)
 }
 
 /// Every node but the root has exactly one parent, the root has none, every node is reached
