@@ -9,22 +9,122 @@
 use std::fmt::Write;
 
 use kbvm::bytecode::{EventId, Instr};
+use kbvm::sim::{Arg, SimConfig, SimError, SimHost, World, initial_facts, program_cells};
 use kbvm::{Failure, Host, Invocation, Poll, Program, Status, Vm};
 
-/// A host that completes each action after its nominal duration (its least duration), and
-/// records when it started and ended each one.
+use crate::intern::Interner;
+use crate::ir::hir::Term;
+use crate::ir::unify::unifiable;
+
+/// A host that completes each action after its nominal duration (its least duration).
 #[derive(Default)]
 pub struct TraceHost {
     /// Running actions: id, start time, completion time.
     running: Vec<(EventId, i64, i64)>,
-    /// Every start and completion, in order: (time, id, true for a start).
-    pub log: Vec<(i64, EventId, bool)>,
 }
 
 /// A host in virtual time: it can say when it will next have news.
 pub trait VirtualHost: Host {
     /// The earliest time after `now` at which a running action will complete (or fail).
     fn next_completion(&self, now: i64) -> Option<i64>;
+}
+
+impl VirtualHost for SimHost {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.next_step().map(|t| t.max(now + 1))
+    }
+}
+
+/// What happened to a host action, for the timeline.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum HostEvent {
+    /// Started.
+    Start,
+    /// Finished successfully.
+    Done,
+    /// Refused or failed, with the host's reason.
+    Failed(String),
+    /// Stopped by the tree.
+    Halted,
+}
+
+/// Wraps a host and records every start, completion, failure and halt with its time.
+pub struct Logged<H> {
+    /// The host.
+    pub host: H,
+    /// (time, action, what happened), in order.
+    pub log: Vec<(i64, EventId, HostEvent)>,
+}
+
+impl<H> Logged<H> {
+    /// Starts logging `host`.
+    pub fn new(host: H) -> Logged<H> {
+        Logged { host, log: Vec::new() }
+    }
+}
+
+impl<H: Host> Host for Logged<H> {
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
+        let result = self.host.start(action, now);
+        let event = match &result {
+            Ok(()) => HostEvent::Start,
+            Err(why) => HostEvent::Failed(why.clone()),
+        };
+        self.log.push((now, action.id, event));
+        result
+    }
+
+    fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll {
+        let poll = self.host.poll(action, now);
+        match &poll {
+            Poll::Running => {}
+            Poll::Success => self.log.push((now, action.id, HostEvent::Done)),
+            Poll::Failure(why) => self.log.push((now, action.id, HostEvent::Failed(why.clone()))),
+        }
+        poll
+    }
+
+    fn halt(&mut self, action: &Invocation<'_>, now: i64) {
+        self.log.push((now, action.id, HostEvent::Halted));
+        self.host.halt(action, now);
+    }
+}
+
+impl<H: VirtualHost> VirtualHost for Logged<H> {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.host.next_completion(now)
+    }
+}
+
+/// The simulated world built from a program's initial state.
+pub fn sim_host(program: &Program, config: SimConfig) -> Result<SimHost, SimError> {
+    let world = World::new(config, &initial_facts(program), &program_cells(program))?;
+    Ok(SimHost::new(world))
+}
+
+/// The world read back as HIR terms, and the blocks it cannot place.
+pub fn world_facts(world: &World, interner: &mut Interner) -> (Vec<Term>, Vec<String>) {
+    let (facts, unaccounted) = world.facts();
+    let terms = facts
+        .iter()
+        .map(|f| {
+            let args = f
+                .args
+                .iter()
+                .map(|a| match a {
+                    Arg::Atom(text) => Term::Atom(interner.intern(text)),
+                    Arg::Int(i) => Term::Int(*i),
+                })
+                .collect();
+            Term::Compound(interner.intern(&f.name), args)
+        })
+        .collect();
+    (terms, unaccounted)
+}
+
+/// The goal literals no fact of the world unifies with.
+pub fn unmet_goals<'g>(goal: &'g [Term], world: &[Term]) -> Vec<&'g Term> {
+    goal.iter().filter(|g| !world.iter().any(|f| unifiable(g, f))).collect()
 }
 
 impl VirtualHost for TraceHost {
@@ -36,7 +136,6 @@ impl VirtualHost for TraceHost {
 impl Host for TraceHost {
     fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
         self.running.push((action.id, now, now + action.min()));
-        self.log.push((now, action.id, true));
         Ok(())
     }
 
@@ -44,7 +143,6 @@ impl Host for TraceHost {
         match self.running.iter().position(|&(id, _, _)| id == action.id) {
             Some(i) if now >= self.running[i].2 => {
                 self.running.swap_remove(i);
-                self.log.push((now, action.id, false));
                 Poll::Success
             }
             Some(_) => Poll::Running,

@@ -124,3 +124,14 @@ duration(grip(_, _), 1, 2).
 duration(move_block(_, _, X1, Y1, X2, Y2), Min, inf) :-
     Min is abs(X2 - X1) + abs(Y2 - Y1) + 1.
 duration(release(_, _), 1, 2).
+
+% On the simulated arms (std/arms.pl), each durative action runs as arm-level steps: those of
+% its start's mapping when it starts, those of its end's mapping when the plan allows it to end.
+% Gripping reaches for the block and closes on it. Moving lifts the block and takes it to the
+% arm's resting point beside the table; when the place at the destination is ready (the end),
+% the arm carries it over the cell and lowers it onto what stands there. Releasing opens the gripper, lifts
+% clear and sends the arm to its resting point beside the table, out of the other arms' way.
+mapping(grip_start(A, B), [reach(A, B), descend(A), close(A, B)]).
+mapping(move_block_start(A, _, _, _, _, _), [lift(A), home(A)]).
+mapping(move_block_end(A, _, _, _, X2, Y2), [move_over(A, X2, Y2), descend(A)]).
+mapping(release_start(A, B), [open(A, B), lift(A), home(A)]).

@@ -17,7 +17,8 @@ use kbvm::Program;
 fn build_run_validate(frontend: &mut Frontend, db: &mut SourceDb, problem: usize, what: &str) -> (Vec<u8>, i64) {
     let plan = search(frontend, problem);
     let timed = timed(frontend, &plan);
-    let (_, module) = driver::build_bytecode(&frontend.kb, &frontend.interner, db, &plan, &timed);
+    let (_, module) =
+        driver::build_bytecode(&frontend.kb, &frontend.interner, db, &plan, &timed, None).expect("builds");
     let bytes = module.encode();
     let program = Program::load(&bytes).unwrap_or_else(|e| panic!("{what}: the bytecode does not load: {e}"));
     let mut host = TraceHost::default();

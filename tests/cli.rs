@@ -306,9 +306,16 @@ fn build_disasm_and_run_a_program() {
     let listing = kbc(&["disasm", path_str]);
     assert_eq!(listing.status.code(), Some(0), "{}", stderr(&listing));
     assert!(stdout(&listing).contains("start event=e0 import=grip/2 args=[a1, b1]"), "{}", stdout(&listing));
-    let run = kbc(&["run", path_str]);
+    let run = kbc(&["run", path_str, "--host", "trace"]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     assert!(stdout(&run).contains("% success at 22.001"), "{}", stdout(&run));
+    // On the simulated arms (the default host), a bytecode file carries no goal: the run
+    // shows the world it leaves, the stack the KB's goal asks for.
+    let run = kbc(&["run", path_str]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    for fact in ["ontable(b4, 5, 5)", "on(b3, b4, 5, 5)", "on(b2, b3, 5, 5)", "on(b1, b2, 5, 5)"] {
+        assert!(stdout(&run).contains(&format!("%   {fact}\n")), "{fact}: {}", stdout(&run));
+    }
     let xml = kbc(&["build", kb, "--emit", "bt-xml"]);
     let xml = stdout(&xml);
     assert!(xml.contains("<root BTCPP_format=\"4\""), "{xml}");

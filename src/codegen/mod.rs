@@ -10,17 +10,18 @@
 use std::collections::HashMap;
 
 use kbvm::bytecode::{
-    Check, DebugEntry, DebugInfo, Delay, Effect, EventId, Fluent, FluentId, Import, ImportId, Instr, MaxTime, Module,
-    NodeRef, Time, Value,
+    Call, Check, DebugEntry, DebugInfo, Delay, Effect, EventId, Fluent, FluentId, Import, ImportId, Instr, MaxTime,
+    Module, NodeRef, Refinement, Time, Value,
 };
 
+use crate::diag::{Diagnostic, codes};
 use crate::intern::Interner;
 use crate::ir::bt::{Bt, Node};
 use crate::ir::hir::{self, EffectKind, Kb, Snap, Term, VarTable};
 use crate::ir::plan::Plan;
 use crate::ir::pop::{ConditionKind, Pop};
 use crate::ir::stn::{Stn, UNITS};
-use crate::ir::unify::unifiable;
+use crate::ir::unify::{match_ground, unifiable};
 use crate::passes::pop::instantiate;
 use crate::source::SourceDb;
 
@@ -104,9 +105,114 @@ impl Tables<'_> {
     }
 }
 
+/// The arm-level steps of each step of the partial order (a snap action): the steps of the first `mapping/2` (in clause order) whose head matches its ground
+/// name, with the head's bindings substituted; `None` without a mapping.
+///
+/// A mapping step left with a variable the head does not bind is E0504.
+pub fn refinements(kb: &Kb, interner: &Interner, pop: &Pop) -> Result<Vec<Option<Vec<Term>>>, Box<Diagnostic>> {
+    let mut out = Vec::with_capacity(pop.steps.len());
+    for step in &pop.steps {
+        let found = kb.mappings.iter().find_map(|m| Some((m, match_ground(&m.high.term, &step.name)?)));
+        let Some((mapping, bindings)) = found else {
+            out.push(None);
+            continue;
+        };
+        let mut values = vec![None; mapping.vars.len()];
+        for (var, value) in bindings {
+            if let Some(slot) = values.get_mut(var.0 as usize) {
+                *slot = Some(value);
+            }
+        }
+        let mut steps = Vec::with_capacity(mapping.steps.len());
+        for literal in &mapping.steps {
+            let term = instantiate(&literal.term, &values);
+            if !term.is_ground() {
+                let mut unbound = None;
+                literal.term.for_each_var(&mut |v| {
+                    if unbound.is_none() && values.get(v.0 as usize).is_none_or(Option::is_none) {
+                        unbound = Some(v);
+                    }
+                });
+                let name = unbound.map_or("_", |v| interner.resolve(mapping.vars.get(v).name)).to_string();
+                let step_text = hir::term_to_string(interner, &step.name, &VarTable::default());
+                return Err(Box::new(
+                    Diagnostic::error(
+                        codes::UNBOUND_MAPPING,
+                        format!("the mapping for `{step_text}` leaves `{name}` unbound"),
+                    )
+                    .primary(literal.span, format!("`{name}` has no value when refining `{step_text}`"))
+                    .secondary(mapping.high.span, "only variables of the high-level action get values")
+                    .with_help(format!("use a variable of the high-level action in place of `{name}`")),
+                ));
+            }
+            steps.push(term);
+        }
+        out.push(Some(steps));
+    }
+    Ok(out)
+}
+
+/// With a host profile (the primitives a host provides): every start or instantaneous action
+/// must either refine into primitives or be one itself. E0503 names the first that does not.
+pub fn check_host_profile(
+    kb: &Kb,
+    interner: &Interner,
+    pop: &Pop,
+    refinements: &[Option<Vec<Term>>],
+    host: &str,
+    primitives: &[(&str, usize)],
+) -> Result<(), Box<Diagnostic>> {
+    let provided = |term: &Term| match term {
+        Term::Compound(f, args) => primitives.contains(&(interner.resolve(*f), args.len())),
+        Term::Atom(a) => primitives.contains(&(interner.resolve(*a), 0)),
+        _ => false,
+    };
+    let list = primitives.iter().map(|(n, a)| format!("{n}/{a}")).collect::<Vec<_>>().join(", ");
+    for (s, step) in pop.steps.iter().enumerate() {
+        if step.snap == Snap::End && refinements[s].is_none() {
+            continue; // the start's refinement (or the action itself) covers it
+        }
+        let action = &kb.actions[step.action];
+        let text = hir::term_to_string(interner, &step.name, &VarTable::default());
+        let problem = match &refinements[s] {
+            None if provided(&step.name) => continue,
+            None => format!("`{text}` has no mapping, and the {host} host does not provide it"),
+            Some(steps) => match steps.iter().find(|t| !provided(t)) {
+                None => continue,
+                Some(t) => format!(
+                    "`{text}` maps to `{}`, which the {host} host does not provide",
+                    hir::term_to_string(interner, t, &VarTable::default())
+                ),
+            },
+        };
+        let base = interner.resolve(action.base);
+        return Err(Box::new(
+            Diagnostic::error(codes::NOT_PROVIDED, problem)
+                .primary(action.slots[0], "the plan uses this action")
+                .with_note(format!("the {host} host provides {list}"))
+                .with_help(format!(
+                    "add `mapping({}, [...])` with steps among those primitives",
+                    hir::term_to_string(interner, &action.name.term, &action.vars)
+                ))
+                .with_note(format!("`{base}` is refined when its start matches a mapping's head")),
+        ));
+    }
+    Ok(())
+}
+
 /// The bytecode module of a behaviour tree; `plan` is the total-order plan the partial
-/// order was made from (for the effects' bindings).
-pub fn generate(kb: &Kb, interner: &Interner, db: &SourceDb, plan: &Plan, pop: &Pop, stn: &Stn, bt: &Bt) -> Module {
+/// order was made from (for the effects' bindings); `refinements` come from [`refinements`].
+#[allow(clippy::too_many_arguments)]
+pub fn generate(
+    kb: &Kb,
+    interner: &Interner,
+    db: &SourceDb,
+    plan: &Plan,
+    pop: &Pop,
+    stn: &Stn,
+    bt: &Bt,
+    refinements: &[Option<Vec<Term>>],
+) -> Module {
     let mut t = Tables {
         interner,
         symbols: Vec::new(),
@@ -170,6 +276,28 @@ pub fn generate(kb: &Kb, interner: &Interner, db: &SourceDb, plan: &Plan, pop: &
         file_index: HashMap::new(),
     };
     let root = emitter.lower(&bt.root, &mut t);
+    // Refinements, by node (ascending, as the format wants): each step an import.
+    let mut refined = Vec::new();
+    for (i, node) in emitter.nodes.iter().enumerate() {
+        let event = match node {
+            Instr::Start { event, .. } | Instr::End { event, .. } | Instr::Act { event, .. } => event.0 as usize,
+            _ => continue,
+        };
+        let Some(steps) = &refinements[event] else { continue };
+        let steps = steps
+            .iter()
+            .map(|term| {
+                let (name, args) = match term {
+                    Term::Compound(f, args) => (*f, &args[..]),
+                    Term::Atom(a) => (*a, &[][..]),
+                    _ => (crate::intern::sym::ANON, &[][..]),
+                };
+                let import = t.import(interner.resolve(name), args.len() as u16);
+                Call { import, args: args.iter().map(|a| t.value(a)).collect() }
+            })
+            .collect();
+        refined.push(Refinement { node: NodeRef(i as u32), steps });
+    }
     Module {
         symbols: t.symbols,
         imports: t.imports,
@@ -179,6 +307,7 @@ pub fn generate(kb: &Kb, interner: &Interner, db: &SourceDb, plan: &Plan, pop: &
         root: NodeRef(root),
         nodes: emitter.nodes,
         debug: Some(emitter.debug),
+        refinements: refined,
     }
 }
 

@@ -135,6 +135,9 @@ codes! {
     // Back end and VM.
     BAD_BYTECODE = "E0501": "a bytecode file that does not load";
     RUN_FAILED = "E0502": "a behaviour tree that did not succeed";
+    NOT_PROVIDED = "E0503": "an action the host can neither run nor refine";
+    UNBOUND_MAPPING = "E0504": "a mapping that leaves a step's variable unbound";
+    GOAL_NOT_REACHED = "E0505": "a run whose world does not satisfy the goal";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";

@@ -17,6 +17,12 @@ pub fn unifiable(a: &Term, b: &Term) -> bool {
     unify(a, &b, &mut bindings)
 }
 
+/// The bindings that make `pattern` equal to the ground term `ground`, if any.
+pub fn match_ground(pattern: &Term, ground: &Term) -> Option<FxHashMap<VarId, Term>> {
+    let mut bindings = FxHashMap::default();
+    unify(pattern, ground, &mut bindings).then_some(bindings)
+}
+
 fn max_var(t: &Term) -> Option<VarId> {
     let mut max = None;
     t.for_each_var(&mut |v| {

@@ -1,0 +1,69 @@
+//! Simulated seconds per wall-clock second of the simulated arms (issue 6: at least 100 times
+//! real time for 4 arms and 20 blocks, release build).
+//!
+//! `cargo bench --bench sim_realtime` plans, schedules and compiles the ladder's three 20-block,
+//! 4-arm problems (not timed), then times `execute::run` of each program on a fresh simulated
+//! world (world construction included), best of three runs in this process, and prints the
+//! simulated makespan, the wall time and their ratio. Each run must reach Success, so a figure
+//! never comes from a run that stopped early.
+
+use std::time::{Duration, Instant};
+
+use kbc::cli::FsLoader;
+use kbc::diag::Diagnostics;
+use kbc::driver;
+use kbc::execute::{self, Outcome};
+use kbc::ladder::{Family, Rung};
+use kbc::passes;
+use kbc::planner::{self, Budget, Options, SearchKind, Silent};
+use kbc::source::SourceDb;
+use kbvm::Program;
+use kbvm::sim::{PRIMITIVES, SimConfig};
+
+fn program(rung: &Rung) -> Program {
+    let mut db = SourceDb::new();
+    let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
+    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
+    assert!(!frontend.diagnostics.has_errors(), "{} checks clean", rung.name());
+    let mut task = passes::task::build(&frontend.kb, 0);
+    let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
+    let options = Options { search: SearchKind::Heuristic, max_depth: None, budget, plans: 1, improve: None };
+    let plan = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent)
+        .result
+        .expect("a plan");
+    let kb_program = planner::program_for(&frontend.kb, 0);
+    let mut diags = Diagnostics::new();
+    let timed = driver::schedule(&frontend.kb, &frontend.interner, &kb_program, &plan, &mut diags).expect("schedules");
+    let (_, module) =
+        driver::build_bytecode(&frontend.kb, &frontend.interner, &db, &plan, &timed, Some(("sim", PRIMITIVES)))
+            .expect("builds");
+    Program::load(&module.encode()).expect("loads")
+}
+
+fn main() {
+    println!("{:<22} {:>12} {:>10} {:>14}", "problem", "simulated s", "wall ms", "sim s / wall s");
+    for family in [Family::Build, Family::Reverse, Family::Swap] {
+        let rung = Rung { family, blocks: 20, arms: 4, seed: 1 };
+        let program = program(&rung);
+        let mut best = Duration::MAX;
+        let mut makespan = 0;
+        for _ in 0..3 {
+            let started = Instant::now();
+            let sim = execute::sim_host(&program, SimConfig::default()).expect("a world");
+            let mut host = execute::Logged::new(sim);
+            let run = execute::run(&program, &mut host, 100_000_000, 100_000_000);
+            let elapsed = started.elapsed();
+            assert_eq!(run.outcome, Outcome::Success, "{}: {:?}", rung.name(), host.log.last());
+            best = best.min(elapsed);
+            makespan = run.end;
+        }
+        let simulated = makespan as f64 / program.module().time_scale as f64;
+        println!(
+            "{:<22} {:>12.2} {:>10.1} {:>14.0}",
+            rung.name(),
+            simulated,
+            best.as_secs_f64() * 1000.0,
+            simulated / best.as_secs_f64()
+        );
+    }
+}

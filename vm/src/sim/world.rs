@@ -1,0 +1,508 @@
+//! The rigid-body world: a table, blocks as dynamic cuboids, and one kinematic gripper per
+//! arm that carries a gripped block through a fixed joint. The world is built from the
+//! program's initial facts (`ontable/3`, `on/4`, `available/1`) and read back into facts at
+//! the end, from the bodies' poses alone.
+//!
+//! Frames: metres, z up, the table's top at z = 0. Cell (X, Y) is centred at
+//! (X * cell_size, Y * cell_size). Physics runs in f32 (rapier's glam vectors); kinematics in
+//! f64 (nalgebra); [`to_glam`] and [`from_glam`] convert at the boundary.
+
+use std::collections::BTreeMap;
+
+use nalgebra::Vector3;
+use rapier3d::prelude::{
+    ColliderBuilder, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, Vector,
+};
+
+use super::arm::{ArmModel, Joints, Line};
+use super::{Arg, Fact, SimConfig, SimError};
+
+pub(crate) fn to_glam(v: Vector3<f64>) -> Vector {
+    Vector::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+pub(crate) fn from_glam(v: Vector) -> Vector3<f64> {
+    Vector3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+/// A block of the world.
+pub(crate) struct Block {
+    pub(crate) name: String,
+    pub(crate) body: RigidBodyHandle,
+}
+
+/// One arm-level step being carried out, or queued.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Primitive {
+    /// Move the gripper above block `.0` at a safe height (the arm sees where it is).
+    Reach(usize),
+    /// Move the gripper above cell (x, y) at a safe height.
+    MoveOver(i64, i64),
+    /// Lower the gripper onto whatever stands under it (with a held block: until the block
+    /// rests on it).
+    Descend,
+    /// Close the gripper on block `.0`, which must be the top block right under it.
+    Close(usize),
+    /// Raise the gripper to a safe height.
+    Lift,
+    /// Go to the arm's resting point beside the table, at a safe height.
+    Home,
+    /// Open the gripper, letting go of block `.0`.
+    Open(usize),
+}
+
+/// What an arm is doing.
+pub(crate) struct Task {
+    /// The invocation it serves (the start event's number).
+    pub(crate) id: u32,
+    /// Steps not started yet.
+    pub(crate) queue: std::collections::VecDeque<Primitive>,
+    /// The steps of the action's end, run once the tree polls for it.
+    pub(crate) end_steps: Option<Vec<Primitive>>,
+    /// The motion of the current step: lines to follow, then steps to wait.
+    pub(crate) lines: std::collections::VecDeque<Line>,
+    pub(crate) wait_steps: u32,
+    /// Consecutive steps the motion has been held back by another gripper.
+    pub(crate) blocked: u32,
+    /// Set when the task ends.
+    pub(crate) outcome: Option<Result<(), String>>,
+}
+
+pub(crate) struct Arm {
+    pub(crate) name: String,
+    pub(crate) model: ArmModel,
+    pub(crate) joints: Joints,
+    /// Where the gripper rests when the arm is idle, beside the table in front of the base.
+    pub(crate) rest: Vector3<f64>,
+    pub(crate) gripper: RigidBodyHandle,
+    pub(crate) holding: Option<(usize, ImpulseJointHandle)>,
+    pub(crate) task: Option<Task>,
+    /// A stalled arm does not move until this step.
+    pub(crate) stalled_until: u64,
+    /// An arm that stopped for good.
+    pub(crate) lost: bool,
+}
+
+/// The simulated world.
+pub struct World {
+    pub(crate) physics: PhysicsWorld,
+    pub(crate) config: SimConfig,
+    pub(crate) blocks: Vec<Block>,
+    pub(crate) arms: Vec<Arm>,
+    /// The cells the program mentions, for the read-back.
+    pub(crate) cells: Vec<(i64, i64)>,
+    /// Physics steps taken.
+    pub(crate) steps: u64,
+}
+
+impl World {
+    /// Builds the world from facts: `ontable(B, X, Y)` and `on(B, B1, X, Y)` place blocks,
+    /// `available(A)` adds an arm; `cells` are every cell the task mentions (the table covers
+    /// them all).
+    pub fn new(config: SimConfig, facts: &[Fact], cells: &[(i64, i64)]) -> Result<World, SimError> {
+        let mut physics = PhysicsWorld::new();
+        physics.gravity = Vector::new(0.0, 0.0, -9.81);
+        physics.integration_parameters.dt = config.step_seconds() as f32;
+        let mut cells: Vec<(i64, i64)> = cells.to_vec();
+        let mut on_table: BTreeMap<String, (i64, i64)> = BTreeMap::new();
+        let mut on_block: BTreeMap<String, String> = BTreeMap::new();
+        let mut arm_names: Vec<String> = Vec::new();
+        for fact in facts {
+            match (fact.name.as_str(), &fact.args[..]) {
+                ("ontable", [Arg::Atom(b), Arg::Int(x), Arg::Int(y)]) => {
+                    on_table.insert(b.clone(), (*x, *y));
+                    cells.push((*x, *y));
+                }
+                ("on", [Arg::Atom(b), Arg::Atom(below), Arg::Int(x), Arg::Int(y)]) => {
+                    on_block.insert(b.clone(), below.clone());
+                    cells.push((*x, *y));
+                }
+                ("available", [Arg::Atom(a)]) if !arm_names.contains(a) => arm_names.push(a.clone()),
+                _ => {}
+            }
+        }
+        cells.sort();
+        cells.dedup();
+        if cells.is_empty() {
+            return Err(SimError("no block stands on a cell: the world needs `ontable/3` facts".into()));
+        }
+        if arm_names.is_empty() {
+            return Err(SimError("no arm: the world needs `available/1` facts".into()));
+        }
+        let c = config.cell_size;
+        let (min_x, max_x) = (cells.iter().map(|p| p.0).min().unwrap(), cells.iter().map(|p| p.0).max().unwrap());
+        let (min_y, max_y) = (cells.iter().map(|p| p.1).min().unwrap(), cells.iter().map(|p| p.1).max().unwrap());
+        let centre = Vector3::new((min_x + max_x) as f64 * c / 2.0, (min_y + max_y) as f64 * c / 2.0, 0.0);
+        let half = Vector3::new((max_x - min_x + 1) as f64 * c / 2.0, (max_y - min_y + 1) as f64 * c / 2.0, 0.0);
+        // The table: a slab under the cells with a margin of a cell.
+        physics.insert(
+            RigidBodyBuilder::fixed().translation(to_glam(centre - Vector3::new(0.0, 0.0, 0.05))),
+            ColliderBuilder::cuboid((half.x + c) as f32, (half.y + c) as f32, 0.05).friction(0.8),
+        );
+        // Blocks, stack by stack: the stack on each table block, bottom up.
+        let h = config.block_size / 2.0;
+        let mut blocks = Vec::new();
+        let mut placed: BTreeMap<String, usize> = BTreeMap::new();
+        for (bottom, &(x, y)) in &on_table {
+            let mut level = 0;
+            let mut name = bottom.clone();
+            loop {
+                if placed.contains_key(&name) {
+                    return Err(SimError(format!("block `{name}` is in two places in the initial state")));
+                }
+                let at = Vector3::new(x as f64 * c, y as f64 * c, h + level as f64 * 2.0 * h);
+                let (body, _) = physics.insert(
+                    RigidBodyBuilder::dynamic().translation(to_glam(at)),
+                    ColliderBuilder::cuboid(h as f32, h as f32, h as f32).friction(0.8).density(500.0),
+                );
+                placed.insert(name.clone(), blocks.len());
+                blocks.push(Block { name: name.clone(), body });
+                match on_block.iter().find(|(_, below)| **below == name) {
+                    Some((above, _)) => name = above.clone(),
+                    None => break,
+                }
+                level += 1;
+            }
+        }
+        if let Some(lost) = on_block.keys().find(|b| !placed.contains_key(*b)) {
+            return Err(SimError(format!("block `{lost}` stands on a stack with no bottom on the table")));
+        }
+        // Arms around the table, evenly spread on a circle outside it, their links long
+        // enough to reach every cell from the table top up to a tall stack.
+        let radius = half.norm() + 0.12;
+        let n = arm_names.len();
+        let mut arms = Vec::new();
+        for (i, name) in arm_names.into_iter().enumerate() {
+            let angle = std::f64::consts::TAU * i as f64 / n as f64 + std::f64::consts::FRAC_PI_4;
+            let shoulder = centre + Vector3::new(radius * angle.cos(), radius * angle.sin(), config.shoulder_height);
+            let far = radius + half.norm();
+            let link = ((far * far + config.shoulder_height.powi(2)).sqrt() + config.reach_margin) / 2.0;
+            let model = ArmModel {
+                shoulder,
+                upper: link,
+                fore: link,
+                joint_speed: config.joint_speed,
+                linear_speed: config.linear_speed,
+            };
+            // Rest: just outside the table's cells, between the base and the table, at the
+            // shoulder's height; an idle arm (or one waiting with a block) is out of the way.
+            let outward = Vector3::new(angle.cos(), angle.sin(), 0.0);
+            let rest = centre + outward * (half.norm() + 0.03) + Vector3::new(0.0, 0.0, config.shoulder_height);
+            let joints = model.inverse(rest).ok_or_else(|| SimError(format!("arm `{name}` cannot reach its rest")))?;
+            let gripper = physics.insert_body(RigidBodyBuilder::kinematic_position_based().translation(to_glam(rest)));
+            arms.push(Arm {
+                name,
+                model,
+                joints,
+                rest,
+                gripper,
+                holding: None,
+                task: None,
+                stalled_until: 0,
+                lost: false,
+            });
+        }
+        Ok(World { physics, config, blocks, arms, cells, steps: 0 })
+    }
+
+    /// Simulated seconds since the start.
+    pub fn seconds(&self) -> f64 {
+        self.steps as f64 * self.config.step_seconds()
+    }
+
+    pub(crate) fn block_index(&self, name: &str) -> Option<usize> {
+        self.blocks.iter().position(|b| b.name == name)
+    }
+
+    pub(crate) fn arm_index(&self, name: &str) -> Option<usize> {
+        self.arms.iter().position(|a| a.name == name)
+    }
+
+    pub(crate) fn block_position(&self, block: usize) -> Vector3<f64> {
+        from_glam(self.physics.bodies[self.blocks[block].body].translation())
+    }
+
+    pub(crate) fn gripper_position(&self, arm: usize) -> Vector3<f64> {
+        self.arms[arm].model.forward(self.arms[arm].joints)
+    }
+
+    fn held(&self, block: usize) -> bool {
+        self.arms.iter().any(|a| a.holding.is_some_and(|(b, _)| b == block))
+    }
+
+    /// The top surface under the point (x, y): the highest block top within a block's width,
+    /// or the table (0). Held blocks do not count.
+    pub(crate) fn surface_under(&self, x: f64, y: f64) -> (f64, Option<usize>) {
+        let reach = self.config.block_size * 0.9;
+        let h = self.config.block_size / 2.0;
+        let mut best = (0.0, None);
+        for i in 0..self.blocks.len() {
+            if self.held(i) {
+                continue;
+            }
+            let p = self.block_position(i);
+            if (p.x - x).abs() < reach && (p.y - y).abs() < reach && p.z + h > best.0 {
+                best = (p.z + h, Some(i));
+            }
+        }
+        best
+    }
+
+    /// A safe height for arm `arm` to travel at: above the tallest stack with room for a held
+    /// block, each arm a layer higher than the previous so that arms in transit do not meet.
+    pub(crate) fn travel_height(&self, arm: usize) -> f64 {
+        let h = self.config.block_size / 2.0;
+        let tallest =
+            (0..self.blocks.len()).filter(|&i| !self.held(i)).map(|i| self.block_position(i).z + h).fold(0.0, f64::max);
+        tallest + self.config.block_size + self.config.clearance + arm as f64 * self.config.layer_spacing
+    }
+
+    /// Starts the next primitive of arm `arm`'s task (its motion lines or its wait), or ends
+    /// the task when none is left.
+    pub(crate) fn begin_next(&mut self, arm: usize) {
+        let Some(task) = self.arms[arm].task.as_mut() else { return };
+        let Some(primitive) = task.queue.pop_front() else {
+            task.outcome = Some(Ok(()));
+            return;
+        };
+        match self.plan_primitive(arm, &primitive) {
+            Ok((lines, wait)) => {
+                let task = self.arms[arm].task.as_mut().expect("checked above");
+                task.lines = lines.into();
+                task.wait_steps = wait;
+            }
+            Err(why) => {
+                let task = self.arms[arm].task.as_mut().expect("checked above");
+                task.outcome = Some(Err(why));
+            }
+        }
+    }
+
+    /// The motion (lines) and the wait (steps) of a primitive, with its physical checks.
+    fn plan_primitive(&mut self, arm: usize, primitive: &Primitive) -> Result<(Vec<Line>, u32), String> {
+        let here = self.gripper_position(arm);
+        let name = self.arms[arm].name.clone();
+        let h = self.config.block_size / 2.0;
+        let c = self.config.cell_size;
+        let via_travel = |world: &World, target_xy: Vector3<f64>| {
+            let z = world.travel_height(arm);
+            let up = Vector3::new(here.x, here.y, z);
+            let over = Vector3::new(target_xy.x, target_xy.y, z);
+            vec![Line::new(here, up), Line::new(up, over)]
+        };
+        let lines = match *primitive {
+            Primitive::Reach(block) => {
+                let p = self.block_position(block);
+                if p.z < -self.config.block_size {
+                    return Err(format!("{name} cannot reach `{}`: it is off the table", self.blocks[block].name));
+                }
+                via_travel(self, p)
+            }
+            Primitive::MoveOver(x, y) => via_travel(self, Vector3::new(x as f64 * c, y as f64 * c, 0.0)),
+            Primitive::Descend => {
+                let (top, _) = self.surface_under(here.x, here.y);
+                let z = if self.arms[arm].holding.is_some() { top + 2.0 * h + 0.002 } else { top };
+                vec![Line::new(here, Vector3::new(here.x, here.y, z))]
+            }
+            Primitive::Home => {
+                let rest = self.arms[arm].rest;
+                via_travel(self, rest)
+            }
+            Primitive::Lift => {
+                let z = self.travel_height(arm);
+                vec![Line::new(here, Vector3::new(here.x, here.y, z))]
+            }
+            Primitive::Close(block) => {
+                if let Some((held, _)) = self.arms[arm].holding {
+                    return Err(format!("{name} already holds `{}`", self.blocks[held].name));
+                }
+                let (top, under) = self.surface_under(here.x, here.y);
+                match under {
+                    None => return Err(format!("{name} has nothing to grip: the table is bare under it")),
+                    Some(b) if (top - here.z).abs() > 0.01 => {
+                        return Err(format!(
+                            "{name} is not touching `{}` ({:.3} m above it)",
+                            self.blocks[b].name,
+                            here.z - top
+                        ));
+                    }
+                    Some(b) if b != block => {
+                        return Err(format!(
+                            "{name} finds `{}` on top, not `{}`",
+                            self.blocks[b].name, self.blocks[block].name
+                        ));
+                    }
+                    Some(_) => {}
+                }
+                let bp = self.block_position(block);
+                let rotation = *self.physics.bodies[self.blocks[block].body].rotation();
+                let anchor = rotation.inverse() * to_glam(here - bp);
+                let joint = self.physics.insert_impulse_joint(
+                    self.arms[arm].gripper,
+                    self.blocks[block].body,
+                    FixedJointBuilder::new().local_anchor1(Vector::ZERO).local_anchor2(anchor),
+                );
+                self.arms[arm].holding = Some((block, joint));
+                return Ok((Vec::new(), self.config.gripper_steps()));
+            }
+            Primitive::Open(block) => {
+                match self.arms[arm].holding {
+                    Some((held, joint)) if held == block => {
+                        self.physics.remove_impulse_joint(joint);
+                        self.arms[arm].holding = None;
+                    }
+                    Some((held, _)) => {
+                        return Err(format!(
+                            "{name} holds `{}`, not `{}`",
+                            self.blocks[held].name, self.blocks[block].name
+                        ));
+                    }
+                    None => return Err(format!("{name} holds nothing to release")),
+                }
+                return Ok((Vec::new(), self.config.gripper_steps()));
+            }
+        };
+        let mut from = here;
+        for line in &lines {
+            let to = line.target();
+            if !self.arms[arm].model.reaches_line(from, to) {
+                return Err(format!("({:.3}, {:.3}, {:.3}) m is out of {name}'s reach", to.x, to.y, to.z));
+            }
+            from = to;
+        }
+        Ok((lines, 0))
+    }
+
+    /// One physics step: every arm with a task moves along its motion (unless that would
+    /// bring its gripper within the safety distance of another), then the bodies move.
+    pub(crate) fn step(&mut self) {
+        for arm in 0..self.arms.len() {
+            if self.arms[arm].lost || self.steps < self.arms[arm].stalled_until {
+                continue;
+            }
+            if self.arms[arm].task.as_ref().is_none_or(|t| t.outcome.is_some()) {
+                continue;
+            }
+            let dt = self.config.step_seconds();
+            let others: Vec<(Vector3<f64>, usize)> =
+                (0..self.arms.len()).filter(|&b| b != arm).map(|b| (self.gripper_position(b), b)).collect();
+            let safety = self.config.safety_distance;
+            let patience = (self.config.blocked_seconds / dt).ceil() as u32;
+            let names: Vec<String> = self.arms.iter().map(|a| a.name.clone()).collect();
+            let Arm { model, joints, task, name, .. } = &mut self.arms[arm];
+            let task = task.as_mut().expect("checked above");
+            if let Some(line) = task.lines.front_mut() {
+                // A step that would bring the gripper within the safety distance of another
+                // one is held back; held back too long, the primitive fails.
+                let saved = line.clone();
+                match line.step(model, *joints, dt) {
+                    Some((next, done)) => {
+                        let at = model.forward(next);
+                        match others.iter().find(|(p, _)| (p - at).norm() < safety) {
+                            Some(&(p, b)) => {
+                                *line = saved;
+                                task.blocked += 1;
+                                if task.blocked > patience {
+                                    task.outcome = Some(Err(format!(
+                                        "{name} was blocked for {:.1} s by {}'s gripper ({:.3} m away)",
+                                        self.config.blocked_seconds,
+                                        names[b],
+                                        (p - at).norm()
+                                    )));
+                                }
+                            }
+                            None => {
+                                task.blocked = 0;
+                                *joints = next;
+                                if done {
+                                    task.lines.pop_front();
+                                }
+                            }
+                        }
+                    }
+                    None => task.outcome = Some(Err(format!("{name} left its reach"))),
+                }
+            } else if task.wait_steps > 0 {
+                task.wait_steps -= 1;
+            } else {
+                self.begin_next(arm);
+            }
+            let target = to_glam(self.gripper_position(arm));
+            self.physics.bodies[self.arms[arm].gripper].set_next_kinematic_translation(target);
+        }
+        self.physics.step();
+        self.steps += 1;
+    }
+
+    /// The world as facts: `ontable/3`, `on/4`, `clear/1` for every block that rests on a
+    /// cell (within a third of a cell) squarely on the table or on another block (within
+    /// 1 cm), `available/1` for every working arm that holds nothing, `gripped/2` for held
+    /// blocks; and the blocks that are none of these (fallen, tilted, between cells).
+    pub fn facts(&self) -> (Vec<Fact>, Vec<String>) {
+        let h = self.config.block_size / 2.0;
+        let c = self.config.cell_size;
+        let mut facts = Vec::new();
+        let mut unaccounted = Vec::new();
+        let mut covered = vec![false; self.blocks.len()];
+        let mut resting = Vec::new();
+        for (i, block) in self.blocks.iter().enumerate() {
+            if let Some(arm) = self.arms.iter().find(|a| a.holding.is_some_and(|(b, _)| b == i)) {
+                facts.push(Fact::new("gripped", vec![Arg::Atom(arm.name.clone()), Arg::Atom(block.name.clone())]));
+                continue;
+            }
+            let p = self.block_position(i);
+            let (cx, cy) = ((p.x / c).round() as i64, (p.y / c).round() as i64);
+            let off_cell = (p.x - cx as f64 * c).abs().max((p.y - cy as f64 * c).abs());
+            let rotation = self.physics.bodies[block.body].rotation();
+            let upright = (rotation * Vector::Z).z > 0.99;
+            if off_cell > c / 3.0 || !upright || !self.cells.contains(&(cx, cy)) {
+                unaccounted.push(format!(
+                    "`{}` is at ({:.3}, {:.3}, {:.3}) m, {}",
+                    block.name,
+                    p.x,
+                    p.y,
+                    p.z,
+                    if !upright { "tipped over" } else { "not on a cell of the table" }
+                ));
+                continue;
+            }
+            if (p.z - h).abs() < 0.01 {
+                facts.push(Fact::new("ontable", vec![Arg::Atom(block.name.clone()), Arg::Int(cx), Arg::Int(cy)]));
+                resting.push(i);
+                continue;
+            }
+            let below = (0..self.blocks.len()).find(|&j| {
+                let q = self.block_position(j);
+                j != i && (q.x - p.x).abs() < h && (q.y - p.y).abs() < h && (p.z - q.z - 2.0 * h).abs() < 0.01
+            });
+            match below {
+                Some(j) => {
+                    covered[j] = true;
+                    facts.push(Fact::new(
+                        "on",
+                        vec![
+                            Arg::Atom(block.name.clone()),
+                            Arg::Atom(self.blocks[j].name.clone()),
+                            Arg::Int(cx),
+                            Arg::Int(cy),
+                        ],
+                    ));
+                    resting.push(i);
+                }
+                None => unaccounted
+                    .push(format!("`{}` is at ({:.3}, {:.3}, {:.3}) m, resting on nothing", block.name, p.x, p.y, p.z)),
+            }
+        }
+        for i in resting {
+            if !covered[i] {
+                facts.push(Fact::new("clear", vec![Arg::Atom(self.blocks[i].name.clone())]));
+            }
+        }
+        for arm in &self.arms {
+            if arm.holding.is_none() && !arm.lost {
+                facts.push(Fact::new("available", vec![Arg::Atom(arm.name.clone())]));
+            }
+        }
+        (facts, unaccounted)
+    }
+}
