@@ -28,9 +28,8 @@ fn program(rung: &Rung) -> Program {
     let mut task = passes::task::build(&frontend.kb, 0);
     let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
     let options = Options { search: SearchKind::Heuristic, max_depth: None, budget, plans: 1, improve: None };
-    let plan = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent)
-        .result
-        .expect("a plan");
+    let plan =
+        planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result.expect("a plan");
     let kb_program = planner::program_for(&frontend.kb, 0);
     let mut diags = Diagnostics::new();
     let timed = driver::schedule(&frontend.kb, &frontend.interner, &kb_program, &plan, &mut diags).expect("schedules");

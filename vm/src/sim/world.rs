@@ -506,3 +506,128 @@ impl World {
         (facts, unaccounted)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn atom(s: &str) -> Arg {
+        Arg::Atom(s.to_string())
+    }
+
+    /// b1 at (1, 1) with b2 on it, b3 at (3, 3), arms a1 and a2.
+    fn world() -> World {
+        let facts = vec![
+            Fact::new("ontable", vec![atom("b1"), Arg::Int(1), Arg::Int(1)]),
+            Fact::new("on", vec![atom("b2"), atom("b1"), Arg::Int(1), Arg::Int(1)]),
+            Fact::new("ontable", vec![atom("b3"), Arg::Int(3), Arg::Int(3)]),
+            Fact::new("available", vec![atom("a1")]),
+            Fact::new("available", vec![atom("a2")]),
+        ];
+        World::new(SimConfig::default(), &facts, &[(1, 1), (2, 2), (3, 3)]).expect("a world")
+    }
+
+    /// Runs `steps` on arm 0 until they finish (or 20 simulated seconds pass).
+    fn run(world: &mut World, steps: Vec<Primitive>) -> Result<(), String> {
+        world.arms[0].task = Some(Task {
+            id: 0,
+            queue: steps.into(),
+            end_steps: None,
+            lines: Default::default(),
+            wait_steps: 0,
+            blocked: 0,
+            outcome: None,
+        });
+        world.begin_next(0);
+        for _ in 0..2000 {
+            if let Some(outcome) = world.arms[0].task.as_ref().and_then(|t| t.outcome.clone()) {
+                world.arms[0].task = None;
+                // Let the blocks settle before anyone reads the world back.
+                for _ in 0..50 {
+                    world.step();
+                }
+                return outcome;
+            }
+            world.step();
+        }
+        panic!("the steps never finished");
+    }
+
+    fn texts(world: &World) -> Vec<String> {
+        let (facts, unaccounted) = world.facts();
+        assert!(unaccounted.is_empty(), "{unaccounted:?}");
+        let mut texts: Vec<String> = facts.iter().map(Fact::to_string).collect();
+        texts.sort();
+        texts
+    }
+
+    #[test]
+    fn the_initial_world_reads_back_as_its_facts() {
+        let mut w = world();
+        for _ in 0..100 {
+            w.step();
+        }
+        assert_eq!(
+            texts(&w),
+            [
+                "available(a1)",
+                "available(a2)",
+                "clear(b2)",
+                "clear(b3)",
+                "on(b2, b1, 1, 1)",
+                "ontable(b1, 1, 1)",
+                "ontable(b3, 3, 3)"
+            ]
+        );
+    }
+
+    #[test]
+    fn an_arm_carries_a_block_to_another_cell() {
+        let mut w = world();
+        let b2 = w.block_index("b2").unwrap();
+        let steps = vec![
+            Primitive::Reach(b2),
+            Primitive::Descend,
+            Primitive::Close(b2),
+            Primitive::Lift,
+            Primitive::MoveOver(3, 3),
+            Primitive::Descend,
+            Primitive::Open(b2),
+            Primitive::Lift,
+            Primitive::Home,
+        ];
+        assert_eq!(run(&mut w, steps), Ok(()));
+        let world = texts(&w);
+        assert!(world.contains(&"on(b2, b3, 3, 3)".to_string()), "{world:?}");
+        assert!(world.contains(&"clear(b1)".to_string()) && !world.contains(&"clear(b3)".to_string()));
+    }
+
+    #[test]
+    fn closing_on_a_covered_block_fails() {
+        let mut w = world();
+        let b1 = w.block_index("b1").unwrap();
+        let outcome = run(&mut w, vec![Primitive::Reach(b1), Primitive::Descend, Primitive::Close(b1)]);
+        assert_eq!(outcome, Err("a1 finds `b2` on top, not `b1`".to_string()));
+    }
+
+    #[test]
+    fn closing_over_the_bare_table_fails_and_far_cells_are_out_of_reach() {
+        let mut w = world();
+        let b1 = w.block_index("b1").unwrap();
+        let outcome = run(&mut w, vec![Primitive::MoveOver(2, 2), Primitive::Descend, Primitive::Close(b1)]);
+        assert_eq!(outcome, Err("a1 has nothing to grip: the table is bare under it".to_string()));
+        let outcome = run(&mut w, vec![Primitive::MoveOver(40, 40)]);
+        assert!(outcome.as_ref().is_err_and(|e| e.contains("out of a1's reach")), "{outcome:?}");
+    }
+
+    #[test]
+    fn an_arm_waits_for_a_gripper_in_its_way_then_gives_up() {
+        let mut w = world();
+        // Park a2's gripper exactly where a1 must pass: above cell (2, 2) at a1's travel height.
+        let z = w.travel_height(0);
+        let spot = Vector3::new(0.2, 0.2, z);
+        w.arms[1].joints = w.arms[1].model.inverse(spot).expect("reachable");
+        let outcome = run(&mut w, vec![Primitive::MoveOver(2, 2)]);
+        assert!(outcome.as_ref().is_err_and(|e| e.contains("blocked for 2.0 s by a2's gripper")), "{outcome:?}");
+    }
+}
