@@ -16,6 +16,7 @@ use std::fmt;
 
 pub use instructions::Instr;
 use operand::Operand;
+use operand::check_index;
 pub use operand::{Check, Delay, Effect, EventId, FluentId, ImportId, MaxTime, NodeRef, Time, Value};
 use reader::{Reader, put_u16, put_u32};
 
@@ -481,12 +482,7 @@ impl Module {
         for _ in 0..n {
             let at = r.position();
             let name = r.u32()?;
-            if name as usize >= symbols.len() {
-                return Err(LoadError::new(
-                    at,
-                    LoadErrorKind::IndexOutOfRange { what: "symbol", index: name as u64, len: symbols.len() },
-                ));
-            }
+            check_index(at, "symbol", name, symbols.len())?;
             imports.push(Import { name, arity: r.u16()? });
         }
         finished(&r)?;
@@ -503,12 +499,7 @@ impl Module {
                 _ => return Err(LoadError::new(at, LoadErrorKind::Reserved)),
             };
             let functor = r.u32()?;
-            if functor as usize >= symbols.len() {
-                return Err(LoadError::new(
-                    at + 1,
-                    LoadErrorKind::IndexOutOfRange { what: "symbol", index: functor as u64, len: symbols.len() },
-                ));
-            }
+            check_index(at + 1, "symbol", functor, symbols.len())?;
             let arity = r.u16()? as usize;
             if arity.saturating_mul(Value::MIN_SIZE) > r.remaining() {
                 return Err(LoadError::new(
@@ -569,12 +560,7 @@ impl Module {
                 for _ in 0..n {
                     let at = r.position();
                     let f = r.u32()?;
-                    if f as usize >= symbols.len() {
-                        return Err(LoadError::new(
-                            at,
-                            LoadErrorKind::IndexOutOfRange { what: "symbol", index: f as u64, len: symbols.len() },
-                        ));
-                    }
+                    check_index(at, "symbol", f, symbols.len())?;
                     files.push(f);
                 }
                 let n = r.count(20)?;
@@ -584,18 +570,8 @@ impl Module {
                     let offset = r.u32()?;
                     let node = cx.node_at(offset).ok_or(LoadError::new(at, LoadErrorKind::NotANode { offset }))?;
                     let (file, line, column, label) = (r.u32()?, r.u32()?, r.u32()?, r.u32()?);
-                    if file as usize >= files.len() {
-                        return Err(LoadError::new(
-                            at + 4,
-                            LoadErrorKind::IndexOutOfRange { what: "file", index: file as u64, len: files.len() },
-                        ));
-                    }
-                    if label as usize >= symbols.len() {
-                        return Err(LoadError::new(
-                            at + 16,
-                            LoadErrorKind::IndexOutOfRange { what: "symbol", index: label as u64, len: symbols.len() },
-                        ));
-                    }
+                    check_index(at + 4, "file", file, files.len())?;
+                    check_index(at + 16, "symbol", label, symbols.len())?;
                     entries.push(DebugEntry { node: NodeRef(node), file, line, column, label });
                 }
                 finished(&r)?;
@@ -683,12 +659,8 @@ fn decode_refinements(r: &mut Reader<'_>, cx: &Context, nodes: &[Instr]) -> Resu
         for _ in 0..count {
             let at = r.position();
             let import = r.u32()?;
-            let Some(declared) = cx.imports.get(import as usize) else {
-                return Err(LoadError::new(
-                    at,
-                    LoadErrorKind::IndexOutOfRange { what: "import", index: import as u64, len: cx.imports.len() },
-                ));
-            };
+            check_index(at, "import", import, cx.imports.len())?;
+            let declared = &cx.imports[import as usize];
             let arity = r.count(Value::MIN_SIZE)?;
             if arity != declared.arity as usize {
                 return Err(LoadError::new(

@@ -27,6 +27,12 @@ fn out_of_range(at: usize, what: &'static str, index: u64, len: usize) -> LoadEr
     LoadError::new(at, LoadErrorKind::IndexOutOfRange { what, index, len })
 }
 
+/// `index` must be below `len`, the length of the `what` table (a table read outside the
+/// operands: imports, fluents, debug info, refinements).
+pub(crate) fn check_index(at: usize, what: &'static str, index: u32, len: usize) -> Result<(), LoadError> {
+    if (index as usize) < len { Ok(()) } else { Err(out_of_range(at, what, index as u64, len)) }
+}
+
 /// A child node: its index in the program's node list (a code offset in the file).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct NodeRef(pub u32);
