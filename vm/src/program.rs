@@ -130,13 +130,7 @@ impl Program {
     /// The call a start or act node's event stands for, as text: `grip(a1, b2)`.
     pub fn action_text(&self, event: EventId) -> String {
         let Some(action) = self.actions.get(event.0 as usize) else { return format!("e{}", event.0) };
-        let name = &self.module.symbols[action.name as usize];
-        let args = &self.args[action.args.0 as usize..action.args.1 as usize];
-        if args.is_empty() {
-            return name.clone();
-        }
-        let args: Vec<String> = args.iter().map(|&v| self.value_text(v)).collect();
-        format!("{name}({})", args.join(", "))
+        self.module.call_text(ImportId(action.import), &self.args[action.args.0 as usize..action.args.1 as usize])
     }
 
     /// The arm-level steps an action node's event is refined into (empty without a refinement).
@@ -159,12 +153,7 @@ impl Program {
 
     /// A step as text: `move_over(a1, 3, 3)`.
     pub fn call_text(&self, call: &Call) -> String {
-        let name = self.import_name(call.import);
-        if call.args.is_empty() {
-            return name.to_string();
-        }
-        let args: Vec<String> = call.args.iter().map(|&v| self.value_text(v)).collect();
-        format!("{name}({})", args.join(", "))
+        self.module.call_text(call.import, &call.args)
     }
 
     /// Where `node` comes from, if the program keeps debug info for it.

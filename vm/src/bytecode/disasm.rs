@@ -77,18 +77,7 @@ pub(super) fn listing(module: &Module) -> String {
     if !module.refinements.is_empty() {
         let _ = writeln!(out, "\n.refinements");
         for r in &module.refinements {
-            let steps: Vec<String> = r
-                .steps
-                .iter()
-                .map(|call| {
-                    let name = module
-                        .imports
-                        .get(call.import.0 as usize)
-                        .map_or_else(|| format!("#{}", call.import.0), |i| names.symbol(i.name));
-                    let args: Vec<String> = call.args.iter().map(|&v| module.value_text(v)).collect();
-                    if args.is_empty() { name } else { format!("{name}({})", args.join(", ")) }
-                })
-                .collect();
+            let steps: Vec<String> = r.steps.iter().map(|call| module.call_text(call.import, &call.args)).collect();
             let _ = writeln!(out, "  @{:<5} {}", r.node.0, steps.join(", "));
         }
     }

@@ -613,6 +613,19 @@ impl Module {
         }
     }
 
+    /// A host call as text: `grip(a1, b2)`, or the bare name without arguments.
+    pub fn call_text(&self, import: ImportId, args: &[Value]) -> String {
+        let name = match self.imports.get(import.0 as usize) {
+            Some(i) => self.value_text(Value::Atom(i.name)),
+            None => format!("#{}", import.0),
+        };
+        if args.is_empty() {
+            return name;
+        }
+        let args: Vec<String> = args.iter().map(|&v| self.value_text(v)).collect();
+        format!("{name}({})", args.join(", "))
+    }
+
     /// The text of a fluent: `on(b1, b2, 1, 1)`.
     pub fn fluent_text(&self, fluent: FluentId) -> String {
         let Some(f) = self.fluents.get(fluent.0 as usize) else { return format!("#{}", fluent.0) };
