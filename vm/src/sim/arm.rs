@@ -25,7 +25,7 @@ pub struct Joints {
 pub struct ArmModel {
     /// The shoulder joint's position (metres, world frame, z up).
     pub shoulder: Vector3<f64>,
-    /// Link lengths.
+    /// First link length.
     pub upper: f64,
     /// Second link length.
     pub fore: f64,

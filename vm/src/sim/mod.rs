@@ -15,7 +15,6 @@
 mod arm;
 mod world;
 
-pub use arm::{ArmModel, Joints};
 pub use world::World;
 
 use crate::bytecode::Call;
@@ -289,9 +288,6 @@ impl Host for SimHost {
             }
         };
         let a = &mut self.world.arms[arm];
-        if a.lost {
-            return Err(format!("{} has stopped working", a.name));
-        }
         if let Some(task) = a.task.as_ref().filter(|t| t.outcome.is_none()) {
             return Err(format!("{} is busy with another action (e{})", a.name, task.id));
         }

@@ -77,10 +77,6 @@ pub(crate) struct Arm {
     pub(crate) gripper: RigidBodyHandle,
     pub(crate) holding: Option<(usize, ImpulseJointHandle)>,
     pub(crate) task: Option<Task>,
-    /// A stalled arm does not move until this step.
-    pub(crate) stalled_until: u64,
-    /// An arm that stopped for good.
-    pub(crate) lost: bool,
 }
 
 /// The simulated world.
@@ -91,8 +87,6 @@ pub struct World {
     pub(crate) arms: Vec<Arm>,
     /// The cells the program mentions, for the read-back.
     pub(crate) cells: Vec<(i64, i64)>,
-    /// Physics steps taken.
-    pub(crate) steps: u64,
 }
 
 impl World {
@@ -190,24 +184,9 @@ impl World {
             let rest = centre + outward * (half.norm() + 0.03) + Vector3::new(0.0, 0.0, config.shoulder_height);
             let joints = model.inverse(rest).ok_or_else(|| SimError(format!("arm `{name}` cannot reach its rest")))?;
             let gripper = physics.insert_body(RigidBodyBuilder::kinematic_position_based().translation(to_glam(rest)));
-            arms.push(Arm {
-                name,
-                model,
-                joints,
-                rest,
-                gripper,
-                holding: None,
-                task: None,
-                stalled_until: 0,
-                lost: false,
-            });
+            arms.push(Arm { name, model, joints, rest, gripper, holding: None, task: None });
         }
-        Ok(World { physics, config, blocks, arms, cells, steps: 0 })
-    }
-
-    /// Simulated seconds since the start.
-    pub fn seconds(&self) -> f64 {
-        self.steps as f64 * self.config.step_seconds()
+        Ok(World { physics, config, blocks, arms, cells })
     }
 
     pub(crate) fn block_index(&self, name: &str) -> Option<usize> {
@@ -373,70 +352,70 @@ impl World {
         Ok((lines, 0))
     }
 
+    /// Advances arm `arm` one step along `line`, the front of its motion. A step that would
+    /// bring its gripper within the safety distance of another one is held back; held back
+    /// for `blocked_seconds`, the primitive fails.
+    fn follow(&mut self, arm: usize, mut line: Line, dt: f64) {
+        let Some((next, done)) = line.step(&self.arms[arm].model, self.arms[arm].joints, dt) else {
+            let why = format!("{} left its reach", self.arms[arm].name);
+            self.arms[arm].task.as_mut().expect("a running task").outcome = Some(Err(why));
+            return;
+        };
+        let at = self.arms[arm].model.forward(next);
+        let blocker = (0..self.arms.len())
+            .filter(|&b| b != arm)
+            .map(|b| (b, (self.gripper_position(b) - at).norm()))
+            .find(|&(_, d)| d < self.config.safety_distance);
+        let patience = (self.config.blocked_seconds / dt).ceil() as u32;
+        let why = blocker.map(|(b, d)| {
+            format!(
+                "{} was blocked for {:.1} s by {}'s gripper ({d:.3} m away)",
+                self.arms[arm].name, self.config.blocked_seconds, self.arms[b].name
+            )
+        });
+        let Arm { joints, task, .. } = &mut self.arms[arm];
+        let task = task.as_mut().expect("a running task");
+        match why {
+            Some(why) => {
+                task.blocked += 1;
+                if task.blocked > patience {
+                    task.outcome = Some(Err(why));
+                }
+            }
+            None => {
+                task.blocked = 0;
+                *joints = next;
+                if done {
+                    task.lines.pop_front();
+                } else {
+                    task.lines[0] = line;
+                }
+            }
+        }
+    }
+
     /// One physics step: every arm with a task moves along its motion (unless that would
     /// bring its gripper within the safety distance of another), then the bodies move.
     pub(crate) fn step(&mut self) {
+        let dt = self.config.step_seconds();
         for arm in 0..self.arms.len() {
-            if self.arms[arm].lost || self.steps < self.arms[arm].stalled_until {
-                continue;
-            }
-            if self.arms[arm].task.as_ref().is_none_or(|t| t.outcome.is_some()) {
-                continue;
-            }
-            let dt = self.config.step_seconds();
-            let others: Vec<(Vector3<f64>, usize)> =
-                (0..self.arms.len()).filter(|&b| b != arm).map(|b| (self.gripper_position(b), b)).collect();
-            let safety = self.config.safety_distance;
-            let patience = (self.config.blocked_seconds / dt).ceil() as u32;
-            let names: Vec<String> = self.arms.iter().map(|a| a.name.clone()).collect();
-            let Arm { model, joints, task, name, .. } = &mut self.arms[arm];
-            let task = task.as_mut().expect("checked above");
-            if let Some(line) = task.lines.front_mut() {
-                // A step that would bring the gripper within the safety distance of another
-                // one is held back; held back too long, the primitive fails.
-                let saved = line.clone();
-                match line.step(model, *joints, dt) {
-                    Some((next, done)) => {
-                        let at = model.forward(next);
-                        match others.iter().find(|(p, _)| (p - at).norm() < safety) {
-                            Some(&(p, b)) => {
-                                *line = saved;
-                                task.blocked += 1;
-                                if task.blocked > patience {
-                                    task.outcome = Some(Err(format!(
-                                        "{name} was blocked for {:.1} s by {}'s gripper ({:.3} m away)",
-                                        self.config.blocked_seconds,
-                                        names[b],
-                                        (p - at).norm()
-                                    )));
-                                }
-                            }
-                            None => {
-                                task.blocked = 0;
-                                *joints = next;
-                                if done {
-                                    task.lines.pop_front();
-                                }
-                            }
-                        }
-                    }
-                    None => task.outcome = Some(Err(format!("{name} left its reach"))),
+            let Some(task) = self.arms[arm].task.as_ref().filter(|t| t.outcome.is_none()) else { continue };
+            match task.lines.front() {
+                Some(line) => self.follow(arm, line.clone(), dt),
+                None if task.wait_steps > 0 => {
+                    self.arms[arm].task.as_mut().expect("checked above").wait_steps -= 1;
                 }
-            } else if task.wait_steps > 0 {
-                task.wait_steps -= 1;
-            } else {
-                self.begin_next(arm);
+                None => self.begin_next(arm),
             }
             let target = to_glam(self.gripper_position(arm));
             self.physics.bodies[self.arms[arm].gripper].set_next_kinematic_translation(target);
         }
         self.physics.step();
-        self.steps += 1;
     }
 
     /// The world as facts: `ontable/3`, `on/4`, `clear/1` for every block that rests on a
     /// cell (within a third of a cell) squarely on the table or on another block (within
-    /// 1 cm), `available/1` for every working arm that holds nothing, `gripped/2` for held
+    /// 1 cm), `available/1` for every arm that holds nothing, `gripped/2` for held
     /// blocks; and the blocks that are none of these (fallen, tilted, between cells).
     pub fn facts(&self) -> (Vec<Fact>, Vec<String>) {
         let h = self.config.block_size / 2.0;
@@ -499,7 +478,7 @@ impl World {
             }
         }
         for arm in &self.arms {
-            if arm.holding.is_none() && !arm.lost {
+            if arm.holding.is_none() {
                 facts.push(Fact::new("available", vec![Arg::Atom(arm.name.clone())]));
             }
         }
