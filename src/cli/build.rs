@@ -285,11 +285,10 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     let Some(mut frontend) = frontend else {
         // A bytecode file carries no goal: show the world as it ends.
         if let Some(sim) = &world {
-            let mut interner = crate::intern::Interner::new();
-            let (facts, unaccounted) = execute::world_facts(sim.world(), &mut interner);
+            let (facts, unaccounted) = sim.world().facts();
             let mut out = String::from("% the world read back (the bytecode carries no goal to check):\n");
             for f in &facts {
-                out.push_str(&format!("%   {}\n", crate::ir::hir::term_to_string(&interner, f, &Default::default())));
+                out.push_str(&format!("%   {f}\n"));
             }
             for u in &unaccounted {
                 out.push_str(&format!("%   unaccounted: {u}\n"));
