@@ -182,6 +182,40 @@ pub fn exclusive_goals(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diag
     None
 }
 
+/// A goal literal that asks for a unit of a renewable resource (`available(a2)` under
+/// `resources(available(_))`) the task never has: no initial fact and no action effect names
+/// it. Units are taken and given back by actions, never created, so the relaxation (which
+/// treats units as interchangeable) cannot see this; checked here instead, as E0306.
+pub fn missing_units(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diagnostic> {
+    let problem = &kb.problems[task.problem];
+    let in_init = |c: ConstId| task.init.facts().any(|f| task.facts.args(f).contains(&c));
+    let in_effects =
+        |c: ConstId| task.schemas.iter().any(|s| s.effects.iter().any(|(_, l)| l.args.contains(&Pattern::Const(c))));
+    for (g, literal) in task.goal.iter().enumerate() {
+        if !task.resource_goal[g] {
+            continue;
+        }
+        for arg in literal.args.iter() {
+            let Pattern::Const(c) = *arg else { continue };
+            if in_init(c) || in_effects(c) {
+                continue;
+            }
+            let shown = hir::term_to_string(interner, &problem.goal[g].term, &problem.vars);
+            let unit = hir::term_to_string(interner, &task.consts.to_term(c), &hir::VarTable::default());
+            return Some(
+                Diagnostic::error(codes::UNREACHABLE_GOAL_RELAXED, format!("goal `{shown}` can never be reached"))
+                    .primary(problem.goal[g].span, format!("`{unit}` is not a unit of the resource"))
+                    .with_note(format!(
+                        "`{shown}` is a unit of a renewable resource (`resources/1`); units are taken and given back \
+                         by actions, never created, and no fact of the initial state names `{unit}`"
+                    ))
+                    .with_help(format!("add `{shown}` to the initial state, or remove it from the goal")),
+            );
+        }
+    }
+    None
+}
+
 /// Binds a schema's add literal to a target fact: ground arguments of the target constrain the
 /// schema's variables; variables of the target constrain nothing.
 fn bind_head(task: &Task, head: &LiteralPattern, target: &[Term], bindings: &mut [Option<ConstId>]) -> bool {

@@ -198,7 +198,9 @@ pub fn search(
 ) -> Outcome {
     let started = Instant::now();
     let program = program_for(kb, task.problem);
-    if let Some(diagnostic) = analysis::exclusive_goals(kb, task, interner) {
+    let unsolvable =
+        analysis::exclusive_goals(kb, task, interner).or_else(|| analysis::missing_units(kb, task, interner));
+    if let Some(diagnostic) = unsolvable {
         let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
         return Outcome::failed(Failure::Unsolvable(Box::new(diagnostic)), stats);
     }
