@@ -48,7 +48,7 @@ fn main() {
         let mut makespan = 0;
         for _ in 0..3 {
             let started = Instant::now();
-            let sim = execute::sim_host(&program, SimConfig::default()).expect("a world");
+            let sim = execute::sim_host(&program, SimConfig::default(), &[]).expect("a world");
             let mut host = execute::Logged::new(sim);
             let run = execute::run(&program, &mut host, 100_000_000, 100_000_000);
             let elapsed = started.elapsed();

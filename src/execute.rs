@@ -96,10 +96,35 @@ impl<H: VirtualHost> VirtualHost for Logged<H> {
     }
 }
 
-/// The simulated world built from a program's initial state.
-pub fn sim_host(program: &Program, config: SimConfig) -> Result<SimHost, SimError> {
-    let world = World::new(config, &initial_facts(program), &program_cells(program))?;
+/// The simulated world built from a program's initial state, laid out around the cells the
+/// program mentions; its table also covers `cells` (where a recovery may put blocks down).
+pub fn sim_host(program: &Program, config: SimConfig, cells: &[(i64, i64)]) -> Result<SimHost, SimError> {
+    let mut world = World::new(config, &initial_facts(program), &program_cells(program))?;
+    world.add_cells(cells);
     Ok(SimHost::new(world))
+}
+
+/// The cells of the table a problem's KB declares: the answers to `pos(X, Y)` (std/blocks.pl's
+/// cells: the `cell/2` facts, or the paper's 5 x 5 grid), at most 10,000 of them; none when
+/// the KB has no `pos/2`. The simulated table covers them, and a recovery puts blocks down
+/// on them.
+pub fn kb_cells(frontend: &crate::driver::Frontend, problem: usize) -> Vec<(i64, i64)> {
+    use crate::engine::{Cell, Machine, Next};
+    let Some(pos) = frontend.interner.get("pos") else { return Vec::new() };
+    let program = crate::planner::program_for(&frontend.kb, problem);
+    let mut machine = Machine::new(&program, 1_000_000);
+    let (x, y) = (machine.new_var(), machine.new_var());
+    let goal = machine.new_compound(pos, &[x, y]);
+    let mut cells = Vec::new();
+    let _ = machine.solve(goal, |m| {
+        if let (Cell::Int(x), Cell::Int(y)) = (m.deref(x), m.deref(y)) {
+            cells.push((x, y));
+        }
+        if cells.len() >= 10_000 { Next::Stop } else { Next::More }
+    });
+    cells.sort();
+    cells.dedup();
+    cells
 }
 
 /// The world read back as HIR terms, and the blocks it cannot place.

@@ -23,6 +23,7 @@ pub mod ir;
 pub mod ladder;
 pub mod passes;
 pub mod planner;
+pub mod recover;
 pub mod render;
 pub mod source;
 pub mod syntax;

@@ -371,3 +371,52 @@ fn validate_text(kb: &str, text: &str, tag: &str) -> std::process::Output {
     let _ = std::fs::remove_file(&path);
     check
 }
+
+#[test]
+fn run_recovers_from_a_fault_and_records_it() {
+    let kb = "examples/02_llm_stacking/test_case.pl";
+    let dir = std::env::temp_dir().join(format!("kbc-cli-fault-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("writable");
+    let (record, chart) = (dir.join("run.json"), dir.join("run.svg"));
+    let run = kbc(&[
+        "run",
+        kb,
+        "--fault",
+        "drop:a2@move_block(a2",
+        "--record",
+        record.to_str().expect("UTF-8"),
+        "--gantt-svg",
+        chart.to_str().expect("UTF-8"),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let out = stdout(&run);
+    assert!(out.contains("FAULT   drop:a2@move_block(a2: `b2` slipped from a2's gripper"), "{out}");
+    assert!(out.contains("% recovery: ") || out.contains("% replanned from the world read back"), "{out}");
+    assert!(out.contains("% goal reached after 1 recovery"), "{out}");
+    // The record: every frame has a pose per block and a position per gripper, in time order,
+    // and the block that slipped leaves the gripper when the fault says.
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&record).expect("written")).expect("JSON");
+    assert_eq!(json["format"], "kbc-sim-record");
+    let frames = json["frames"].as_array().expect("frames");
+    assert!(frames.len() > 100, "{} frames", frames.len());
+    let times: Vec<f64> = frames.iter().map(|f| f["t"].as_f64().expect("t")).collect();
+    assert!(times.windows(2).all(|w| w[0] < w[1]), "frames in time order");
+    assert!(frames.iter().all(|f| f["blocks"].as_array().unwrap().len() == 4));
+    assert!(frames.iter().all(|f| f["grippers"].as_array().unwrap().len() == 3));
+    assert_eq!(json["faults"].as_array().expect("faults").len(), 1);
+    // The chart: a planned and an executed lane per arm, the failed action outlined, the
+    // fault marked.
+    let svg = std::fs::read_to_string(&chart).expect("written");
+    for lane in ["a1 planned", "a1 executed", "a3 executed"] {
+        assert!(svg.contains(&format!(">{lane}</text>")), "{lane}: {svg}");
+    }
+    assert!(svg.contains("stroke=\"#d00\" stroke-width=\"2\""), "a failed bar");
+    assert!(svg.contains("stroke-dasharray"), "a fault mark");
+    // Without replanning, the same fault is the run's error.
+    let run = kbc(&["run", kb, "--fault", "drop:a2@move_block(a2", "--no-replan"]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(stderr(&run).contains("error[E0502]") && stderr(&run).contains("`--no-replan`"), "{}", stderr(&run));
+    // A fault that does not parse is a usage error.
+    assert_eq!(kbc(&["run", kb, "--fault", "stall:a1:soon"]).status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}

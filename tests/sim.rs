@@ -21,7 +21,8 @@ fn run_physically(frontend: &mut Frontend, db: &SourceDb, problem: usize, what: 
             .unwrap_or_else(|d| panic!("{what}: {}", d.message));
     assert!(!module.refinements.is_empty(), "{what}: the std mappings refine the actions");
     let program = Program::load(&module.encode()).expect("loads");
-    let sim = execute::sim_host(&program, SimConfig::default()).expect("a world");
+    let sim =
+        execute::sim_host(&program, SimConfig::default(), &execute::kb_cells(frontend, problem)).expect("a world");
     let mut host = execute::Logged::new(sim);
     let run = execute::run(&program, &mut host, 10_000_000, 10_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}: {:?}", host.log.last());

@@ -174,6 +174,26 @@ pub(super) struct Planned {
     pub(super) task: crate::ir::task::Task,
 }
 
+/// The search options the arguments ask for; a timeout counts from now.
+pub(super) fn search_options(args: &PlanningArgs) -> Options {
+    let search = match args.search {
+        SearchArg::Paper => SearchKind::Paper,
+        SearchArg::Heuristic => SearchKind::Heuristic,
+    };
+    Options {
+        search,
+        max_depth: args.max_depth,
+        budget: planner::Budget {
+            max_states: args.max_states,
+            deadline: args.timeout.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))),
+            max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
+            ..planner::Budget::default()
+        },
+        plans: args.retries as usize + 1,
+        improve: args.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
+    }
+}
+
 /// Runs the front end, finds (or reads and checks) a plan and schedules it; on failure the
 /// diagnostics are already printed and the exit status is returned.
 pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: bool) -> Result<Planned, ExitCode> {
@@ -216,22 +236,8 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
                 let text = crate::ir::task::print(&frontend.interner, &frontend.kb, &task);
                 let _ = std::io::stdout().lock().write_all(text.as_bytes());
             }
-            let search = match args.search {
-                SearchArg::Paper => SearchKind::Paper,
-                SearchArg::Heuristic => SearchKind::Heuristic,
-            };
-            let options = Options {
-                search,
-                max_depth: args.max_depth,
-                budget: planner::Budget {
-                    max_states: args.max_states,
-                    deadline: args.timeout.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))),
-                    max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
-                    ..planner::Budget::default()
-                },
-                plans: args.retries as usize + 1,
-                improve: args.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
-            };
+            let options = search_options(args);
+            let search = options.search;
             let mut progress = TerminalProgress {
                 started: Instant::now(),
                 enabled: std::io::stderr().is_terminal(),
@@ -535,7 +541,7 @@ fn plan_json(
     format!("{value}\n")
 }
 
-fn failure_diagnostic(
+pub(super) fn failure_diagnostic(
     kb: &Kb,
     interner: &crate::intern::Interner,
     task: &crate::ir::task::Task,

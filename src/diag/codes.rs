@@ -138,6 +138,7 @@ codes! {
     NOT_PROVIDED = "E0503": "an action the host can neither run nor refine";
     UNBOUND_MAPPING = "E0504": "a mapping that leaves a step's variable unbound";
     GOAL_NOT_REACHED = "E0505": "a run whose world does not satisfy the goal";
+    CANNOT_RECOVER = "E0506": "a fault the run cannot recover from";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";

@@ -50,6 +50,35 @@ pub fn resource_units(kb: &Kb, problem: usize) -> Vec<Term> {
     units
 }
 
+/// A bar of a chart: a lane, a label (the action), a colour key, its interval (program time
+/// units) and how it ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Bar {
+    /// The lane, an index into the chart's lanes.
+    pub lane: usize,
+    /// The full text, shown on hover.
+    pub title: String,
+    /// The short text drawn on the bar, and the key of its colour.
+    pub label: String,
+    /// Start and end times.
+    pub start: i64,
+    /// End time.
+    pub end: i64,
+    /// How it ended.
+    pub ending: Ending,
+}
+
+/// How a bar's action ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ending {
+    /// As planned, or successfully.
+    Done,
+    /// It failed.
+    Failed,
+    /// The tree stopped it.
+    Halted,
+}
+
 /// The SVG chart of `schedule`.
 pub fn svg(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> String {
     let no_vars = VarTable::default();
@@ -58,26 +87,80 @@ pub fn svg(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> Stri
     let lane_of = |name: &Term| -> usize {
         name.args().iter().find_map(|a| units.iter().position(|u| u == a)).unwrap_or(units.len())
     };
-    let lanes = units.len() + usize::from(actions.iter().any(|a| lane_of(&a.name) == units.len()));
-    let span = schedule.makespan.max(UNITS);
-    let x = |t: i64| LEFT + t * WIDTH / span;
-    let height = 40 + LANE * lanes.max(1) as i64 + 30;
+    let mut lanes: Vec<String> = units.iter().map(|u| hir::term_to_string(interner, u, &no_vars)).collect();
+    if actions.iter().any(|a| lane_of(&a.name) == units.len()) {
+        lanes.push("other".to_string());
+    }
+    let bars: Vec<Bar> = actions
+        .iter()
+        .filter_map(|action| {
+            let duration = action.duration?;
+            let shown = hir::term_to_string(interner, &action.name, &no_vars);
+            let short = action.name.callable().map_or(shown.clone(), |(name, _)| interner.resolve(name).to_string());
+            Some(Bar {
+                lane: lane_of(&action.name),
+                title: shown,
+                label: short,
+                start: action.time,
+                end: action.time + duration,
+                ending: Ending::Done,
+            })
+        })
+        .collect();
+    let title = format!(
+        "schedule of {}: makespan {}",
+        interner.resolve(kb.problems[pop.problem].name),
+        format_time(schedule.makespan)
+    );
+    draw(&title, &lanes, &bars, &[], schedule.makespan)
+}
+
+/// The bars of a schedule's durative actions on lanes named by unit: an action goes to the
+/// lane `lane_of` gives the first of its arguments it knows (actions it places nowhere are
+/// left out).
+pub fn schedule_bars(
+    interner: &Interner,
+    kb: &Kb,
+    pop: &Pop,
+    schedule: &Schedule,
+    lane_of: &dyn Fn(&str) -> Option<usize>,
+) -> Vec<Bar> {
+    let no_vars = VarTable::default();
+    schedule::timed_actions(kb, pop, schedule)
+        .iter()
+        .filter_map(|action| {
+            let duration = action.duration?;
+            let lane = action.name.args().iter().find_map(|a| lane_of(&hir::term_to_string(interner, a, &no_vars)))?;
+            let shown = hir::term_to_string(interner, &action.name, &no_vars);
+            let short = action.name.callable().map_or(shown.clone(), |(name, _)| interner.resolve(name).to_string());
+            Some(Bar {
+                lane,
+                title: shown,
+                label: short,
+                start: action.time,
+                end: action.time + duration,
+                ending: Ending::Done,
+            })
+        })
+        .collect()
+}
+
+/// Draws a chart: a lane per name, the bars, vertical marks (time, text) such as faults, over
+/// `[0, span]` program time units (1000 per KB time unit).
+pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)], span: i64) -> String {
+    let span = span.max(UNITS);
+    let x = |t: i64| LEFT + t.clamp(0, span) * WIDTH / span;
+    let height = 40 + LANE * lanes.len().max(1) as i64 + 30;
     let mut out = String::new();
     let _ = writeln!(
         out,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"11\">",
         LEFT + WIDTH + 20
     );
-    let _ = writeln!(
-        out,
-        "<text x=\"{LEFT}\" y=\"16\" font-size=\"13\">schedule of {}: makespan {}</text>",
-        escape(interner.resolve(kb.problems[pop.problem].name)),
-        format_time(schedule.makespan)
-    );
-    for lane in 0..lanes {
+    let _ = writeln!(out, "<text x=\"{LEFT}\" y=\"16\" font-size=\"13\">{}</text>", escape(title));
+    for (lane, label) in lanes.iter().enumerate() {
         let y = 30 + LANE * lane as i64;
-        let label = units.get(lane).map_or("other".to_string(), |u| hir::term_to_string(interner, u, &no_vars));
-        let _ = writeln!(out, "<text x=\"4\" y=\"{}\">{}</text>", y + LANE / 2 + 4, escape(&label));
+        let _ = writeln!(out, "<text x=\"4\" y=\"{}\">{}</text>", y + LANE / 2 + 4, escape(label));
         let _ = writeln!(
             out,
             "<line x1=\"{LEFT}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#ddd\"/>",
@@ -89,7 +172,7 @@ pub fn svg(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> Stri
     // A tick per time unit, at most twenty of them.
     let units_total = span / UNITS;
     let step = (units_total / 20).max(1) * UNITS;
-    let axis = 30 + LANE * lanes.max(1) as i64;
+    let axis = 30 + LANE * lanes.len().max(1) as i64;
     let mut t = 0;
     while t <= span {
         let _ = writeln!(
@@ -101,35 +184,43 @@ pub fn svg(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> Stri
         );
         t += step;
     }
-    let mut colours: Vec<crate::intern::Symbol> = Vec::new();
-    for action in &actions {
-        let Some(duration) = action.duration else { continue };
-        let lane = lane_of(&action.name) as i64;
-        let base = action.name.callable().map(|(name, _)| name).unwrap_or(crate::intern::sym::TRUE);
-        let colour = match colours.iter().position(|&c| c == base) {
+    let mut colours: Vec<&str> = Vec::new();
+    for bar in bars {
+        let colour = match colours.iter().position(|&c| c == bar.label) {
             Some(i) => i,
             None => {
-                colours.push(base);
+                colours.push(&bar.label);
                 colours.len() - 1
             }
         };
-        let (x0, x1) = (x(action.time), x(action.time + duration));
-        let y = 30 + LANE * lane + 4;
-        let shown = hir::term_to_string(interner, &action.name, &no_vars);
+        let (x0, x1) = (x(bar.start), x(bar.end));
+        let y = 30 + LANE * bar.lane as i64 + 4;
+        let (fill, stroke, ended) = match bar.ending {
+            Ending::Done => (PALETTE[colour % PALETTE.len()], "none", ""),
+            Ending::Failed => (PALETTE[colour % PALETTE.len()], "#d00", ", failed"),
+            Ending::Halted => ("#bbb", "none", ", halted"),
+        };
         let _ = writeln!(
             out,
-            "<rect x=\"{x0}\" y=\"{y}\" width=\"{}\" height=\"{}\" fill=\"{}\" opacity=\"0.85\"><title>{} from {} to {}</title></rect>",
+            "<rect x=\"{x0}\" y=\"{y}\" width=\"{}\" height=\"{}\" fill=\"{fill}\" stroke=\"{stroke}\" stroke-width=\"2\" opacity=\"0.85\"><title>{} from {} to {}{ended}</title></rect>",
             (x1 - x0).max(1),
             LANE - 8,
-            PALETTE[colour % PALETTE.len()],
-            escape(&shown),
-            format_time(action.time),
-            format_time(action.time + duration)
+            escape(&bar.title),
+            format_time(bar.start),
+            format_time(bar.end)
         );
         if x1 - x0 > 40 {
-            let short = action.name.callable().map_or(shown.clone(), |(name, _)| interner.resolve(name).to_string());
-            let _ = writeln!(out, "<text x=\"{}\" y=\"{}\" fill=\"white\">{}</text>", x0 + 3, y + 15, escape(&short));
+            let _ =
+                writeln!(out, "<text x=\"{}\" y=\"{}\" fill=\"white\">{}</text>", x0 + 3, y + 15, escape(&bar.label));
         }
+    }
+    for (t, text) in marks {
+        let _ = writeln!(
+            out,
+            "<line x1=\"{0}\" y1=\"26\" x2=\"{0}\" y2=\"{axis}\" stroke=\"#d00\" stroke-dasharray=\"4 3\"><title>{1}</title></line>",
+            x(*t),
+            escape(text)
+        );
     }
     out.push_str("</svg>\n");
     out

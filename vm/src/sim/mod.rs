@@ -13,13 +13,15 @@
 //! program and configuration give the same run.
 
 mod arm;
+mod fault;
 mod world;
 
+pub use fault::{Fault, FaultKind, FaultKindSpec, FaultSpec, FaultSyntaxError, Rng, When};
 pub use world::World;
 
 use crate::bytecode::Call;
 use crate::{Host, Invocation, Poll, Value};
-use world::{Primitive, Task};
+use world::{Placement, Primitive, Task};
 
 /// The arm-level actions the simulated arms provide: name and arity.
 pub const PRIMITIVES: &[(&str, usize)] =
@@ -180,17 +182,75 @@ fn arg(program: &crate::Program, value: Value) -> Arg {
     }
 }
 
-/// The simulated arms as a [`Host`].
+/// The simulated arms as a [`Host`], with the faults to inject.
+///
+/// One host can run several programs one after another in the same world (a recovery runs
+/// the replanned program where the first one stopped): each program's time starts at 0 when
+/// [`SimHost::start_program`] is called; [`SimHost::time`] is the world's own clock.
 pub struct SimHost {
     world: World,
-    /// Program time units the world has been advanced to.
+    /// Program time units the world has been advanced to, from the world's start.
     now: i64,
+    /// The world's time when the current program started.
+    offset: i64,
+    /// Faults not injected yet, in the order given.
+    pending: Vec<Fault>,
+    /// Faults injected: the world's time and what happened.
+    injected: Vec<(i64, String)>,
+    rng: Rng,
+    /// Sample the poses every this many steps (0: do not record).
+    record_every: u64,
+    frames: Vec<Frame>,
+}
+
+/// The poses of the world at one moment, as [`SimHost::record`] samples them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Seconds of simulated time.
+    pub time: f64,
+    /// Each block's position (metres) and rotation (quaternion x, y, z, w), in the order of
+    /// [`World::block_names`].
+    pub blocks: Vec<[f64; 7]>,
+    /// Each gripper's position, in the order of [`World::arm_names`].
+    pub grippers: Vec<[f64; 3]>,
 }
 
 impl SimHost {
-    /// A host over `world`, at time 0.
+    /// A host over `world`, at time 0, without faults.
     pub fn new(world: World) -> SimHost {
-        SimHost { world, now: 0 }
+        SimHost::with_faults(world, Vec::new(), 0)
+    }
+
+    /// A host over `world` that injects `faults`; `seed` draws what a fault leaves open when
+    /// it happens (the cell a block is nudged onto).
+    pub fn with_faults(world: World, faults: Vec<Fault>, seed: u64) -> SimHost {
+        SimHost {
+            world,
+            now: 0,
+            offset: 0,
+            pending: faults,
+            injected: Vec::new(),
+            rng: Rng::new(seed ^ 0x5eed),
+            record_every: 0,
+            frames: Vec::new(),
+        }
+    }
+
+    /// Samples the poses of blocks and grippers every `seconds` of simulated time from now on
+    /// (rounded to whole physics steps), and once now.
+    pub fn record(&mut self, seconds: f64) {
+        self.record_every = ((seconds / self.world.config.step_seconds()).round() as u64).max(1);
+        self.frames.push(self.world.frame());
+    }
+
+    /// The poses sampled so far.
+    pub fn frames(&self) -> &[Frame] {
+        &self.frames
+    }
+
+    /// The world, taken back from the host.
+    pub fn into_world(self) -> World {
+        self.world
     }
 
     /// The world.
@@ -198,20 +258,240 @@ impl SimHost {
         &self.world
     }
 
-    /// Steps the world up to `now` (program time units).
+    /// The world's clock, in program time units since it was built.
+    pub fn time(&self) -> i64 {
+        self.now
+    }
+
+    /// Starts counting program time from now: the next program's time 0 is the world's
+    /// current time.
+    pub fn start_program(&mut self) {
+        self.offset = self.now;
+    }
+
+    /// The world's time at which the current program started.
+    pub fn program_offset(&self) -> i64 {
+        self.offset
+    }
+
+    /// The faults injected so far: when (the world's clock) and what happened.
+    pub fn injected(&self) -> &[(i64, String)] {
+        &self.injected
+    }
+
+    /// The faults still waiting for their moment.
+    pub fn pending(&self) -> &[Fault] {
+        &self.pending
+    }
+
+    /// Steps the world up to program time `now`.
     pub fn advance_to(&mut self, now: i64) {
+        self.advance_world_to(self.offset + now);
+    }
+
+    fn advance_world_to(&mut self, until: i64) {
         let step = self.world.config.step_units;
-        while self.now + step <= now {
+        while self.now + step <= until {
+            self.inject_due();
             self.world.step();
             self.now += step;
+            if self.record_every > 0 && self.world.steps % self.record_every == 0 {
+                self.frames.push(self.world.frame());
+            }
         }
     }
 
-    /// The time of the next physics step if an arm is busy (the earliest an action can
-    /// finish), else `None`.
+    /// The time of the next physics step (program time) if an arm is busy (the earliest an
+    /// action can finish), else `None`.
     pub fn next_step(&self) -> Option<i64> {
-        let busy = self.world.arms.iter().any(|a| a.task.as_ref().is_some_and(|t| t.outcome.is_none()));
-        busy.then_some(self.now + self.world.config.step_units)
+        // Busy: a task is under way, or has failed and the tree has yet to hear of it.
+        let busy = self.world.arms.iter().any(|a| a.task.as_ref().is_some_and(|t| !matches!(t.outcome, Some(Ok(())))));
+        busy.then_some(self.now - self.offset + self.world.config.step_units)
+    }
+
+    /// Injects every pending fault whose moment has come and that can happen now.
+    fn inject_due(&mut self) {
+        let seconds = self.now as f64 / self.world.config.units_per_second as f64;
+        let mut i = 0;
+        while i < self.pending.len() {
+            let due = matches!(self.pending[i].when, When::At(t) | When::Started(_, t) if t <= seconds + 1e-9);
+            match due.then(|| self.inject(&self.pending[i].kind.clone())).flatten() {
+                Some(what) => {
+                    let fault = self.pending.remove(i);
+                    self.injected.push((self.now, format!("{fault}: {what}")));
+                }
+                None => i += 1,
+            }
+        }
+    }
+
+    /// Makes a fault happen; `None` when it cannot happen now (nothing carried, the block
+    /// held) and must wait.
+    fn inject(&mut self, kind: &FaultKind) -> Option<String> {
+        let world = &mut self.world;
+        let unknown_arm = |name: &str| format!("nothing happens: there is no arm `{name}`");
+        match kind {
+            FaultKind::Drop(arm) => {
+                let arm = match arm {
+                    Some(name) => match world.arm_index(name) {
+                        Some(a) => a,
+                        None => return Some(unknown_arm(name)),
+                    },
+                    None => (0..world.arms.len()).find(|&a| world.carrying(a))?,
+                };
+                if !world.carrying(arm) {
+                    return None;
+                }
+                world.drop_held(arm)
+            }
+            FaultKind::Stall(name, seconds) => match world.arm_index(name) {
+                Some(a) => {
+                    world.stall(a, *seconds);
+                    Some(format!("{name} freezes for {seconds:.1} s"))
+                }
+                None => Some(unknown_arm(name)),
+            },
+            FaultKind::Stop(name) => match world.arm_index(name) {
+                Some(a) => {
+                    world.stop(a);
+                    Some(format!("{name} stops for good"))
+                }
+                None => Some(unknown_arm(name)),
+            },
+            FaultKind::Nudge(name, cell) => {
+                let Some(block) = world.block_index(name) else {
+                    return Some(format!("nothing happens: there is no block `{name}`"));
+                };
+                if matches!(world.placement(block), Placement::Held(_)) {
+                    return None;
+                }
+                let top = world.top_of_stack(block);
+                let cell = match cell {
+                    Some((x, y)) if !world.free_cells().contains(&(*x, *y)) => {
+                        return Some(format!("nothing happens: cell ({x}, {y}) is not a free cell of the table"));
+                    }
+                    Some(cell) => *cell,
+                    None => {
+                        let free = world.free_cells();
+                        if free.is_empty() {
+                            return Some("nothing happens: no cell is free".to_string());
+                        }
+                        free[self.rng.below(free.len())]
+                    }
+                };
+                let what = world.nudge(top, cell);
+                Some(if top == block { what } else { format!("{what} (the top of `{name}`'s stack)") })
+            }
+        }
+    }
+
+    /// Brings the world to rest after a program stopped on a fault, so that it can be read
+    /// back and planned from: every task is dropped; stalled arms are waited for; idle arms
+    /// go to their resting points; each arm still holding a block puts it down on the free
+    /// cell nearest to it; a block lying on the table between cells is carried to the free
+    /// cell nearest to it by the nearest idle arm. Stopped arms do nothing. Returns a line
+    /// for each thing done or that could not be done.
+    pub fn recover(&mut self) -> Vec<String> {
+        let mut report = Vec::new();
+        for arm in &mut self.world.arms {
+            arm.task = None;
+        }
+        let step = self.world.config.step_units;
+        while self.world.any_stalled() {
+            self.advance_world_to(self.now + step);
+        }
+        self.settle(0.3);
+        let working = |w: &World, a: usize| !w.arms[a].stopped;
+        for a in 0..self.world.arms.len() {
+            let arm = &self.world.arms[a];
+            if working(&self.world, a)
+                && arm.holding.is_none()
+                && (self.world.gripper_position(a) - arm.rest).norm() > 1e-3
+            {
+                if let Err(why) = self.run_task(a, vec![Primitive::Home]) {
+                    report.push(format!("{} could not go to its resting point: {why}", self.world.arms[a].name));
+                }
+            }
+        }
+        for a in 0..self.world.arms.len() {
+            let Some((block, _)) = self.world.arms[a].holding.filter(|_| working(&self.world, a)) else { continue };
+            let (arm, name) = (self.world.arms[a].name.clone(), self.world.blocks[block].name.clone());
+            let here = self.world.gripper_position(a);
+            let Some((x, y)) = self.world.nearest_free_cell(here.x, here.y) else {
+                report.push(format!("{arm} keeps `{name}`: no cell is free to put it down"));
+                continue;
+            };
+            let steps = vec![
+                Primitive::MoveOver(x, y),
+                Primitive::Descend,
+                Primitive::Open(block),
+                Primitive::Lift,
+                Primitive::Home,
+            ];
+            report.push(match self.run_task(a, steps) {
+                Ok(()) => format!("{arm} put `{name}` down on cell ({x}, {y})"),
+                Err(why) => format!("{arm} could not put `{name}` down on cell ({x}, {y}): {why}"),
+            });
+        }
+        for block in 0..self.world.blocks.len() {
+            if self.world.placement(block) != Placement::Loose {
+                continue;
+            }
+            let name = self.world.blocks[block].name.clone();
+            let p = self.world.block_position(block);
+            let idle =
+                (0..self.world.arms.len()).filter(|&a| working(&self.world, a) && self.world.arms[a].holding.is_none());
+            let nearest = idle.min_by(|&a, &b| {
+                let d = |i: usize| (self.world.arms[i].model.shoulder - p).xy().norm();
+                d(a).total_cmp(&d(b))
+            });
+            let (Some(a), Some((x, y))) = (nearest, self.world.nearest_free_cell(p.x, p.y)) else {
+                report.push(format!("`{name}` stays between cells: no idle arm or no free cell"));
+                continue;
+            };
+            let arm = self.world.arms[a].name.clone();
+            let steps = vec![
+                Primitive::Reach(block),
+                Primitive::Descend,
+                Primitive::Close(block),
+                Primitive::Lift,
+                Primitive::MoveOver(x, y),
+                Primitive::Descend,
+                Primitive::Open(block),
+                Primitive::Lift,
+                Primitive::Home,
+            ];
+            report.push(match self.run_task(a, steps) {
+                Ok(()) => format!("{arm} put `{name}`, found between cells, on cell ({x}, {y})"),
+                Err(why) => format!("{arm} could not move `{name}` onto cell ({x}, {y}): {why}"),
+            });
+        }
+        self.settle(0.5);
+        report
+    }
+
+    /// Runs the world for `seconds` with no arm moving, so that falling blocks come to rest.
+    fn settle(&mut self, seconds: f64) {
+        let units = (seconds * self.world.config.units_per_second as f64) as i64;
+        self.advance_world_to(self.now + units);
+    }
+
+    /// Runs `steps` on arm `arm` to their end (a minute of simulated time at most).
+    fn run_task(&mut self, arm: usize, steps: Vec<Primitive>) -> Result<(), String> {
+        self.world.arms[arm].task = Some(Task::new(u32::MAX, steps));
+        self.world.begin_next(arm);
+        let limit = self.now + 60 * self.world.config.units_per_second;
+        loop {
+            if let Some(outcome) = self.world.arms[arm].task.as_ref().and_then(|t| t.outcome.clone()) {
+                self.world.arms[arm].task = None;
+                return outcome;
+            }
+            if self.now >= limit {
+                self.world.arms[arm].task = None;
+                return Err("it took more than a minute".to_string());
+            }
+            self.advance_world_to(self.now + self.world.config.step_units);
+        }
     }
 
     /// The primitives of an invocation: its refinement's steps, or the action itself if it
@@ -291,16 +571,19 @@ impl Host for SimHost {
         if let Some(task) = a.task.as_ref().filter(|t| t.outcome.is_none()) {
             return Err(format!("{} is busy with another action (e{})", a.name, task.id));
         }
-        a.task = Some(Task {
-            id: action.id.0,
-            queue: queue.into(),
-            end_steps,
-            lines: Default::default(),
-            wait_steps: 0,
-            blocked: 0,
-            outcome: None,
-        });
+        a.task = Some(Task { end_steps, ..Task::new(action.id.0, queue) });
         self.world.begin_next(arm);
+        // Faults due when this action starts happen now.
+        let text = action.text();
+        let seconds = self.now as f64 / self.world.config.units_per_second as f64;
+        for fault in &mut self.pending {
+            if let When::OnStart(prefix) = &fault.when
+                && text.starts_with(prefix.as_str())
+            {
+                fault.when = When::Started(prefix.clone(), seconds);
+            }
+        }
+        self.inject_due();
         Ok(())
     }
 
@@ -312,11 +595,11 @@ impl Host for SimHost {
         };
         let task = self.world.arms[index].task.as_mut().expect("found by its task");
         if task.outcome == Some(Ok(())) && task.end_steps.is_some() {
-            // The tree polls: the action may end now. Run the end's steps.
+            // The tree polls: the action may end now. Run the end's steps (which may fail at
+            // once, on a stopped arm).
             task.queue = task.end_steps.take().expect("checked").into();
             task.outcome = None;
             self.world.begin_next(index);
-            return Poll::Running;
         }
         let arm = &mut self.world.arms[index];
         match arm.task.as_ref().and_then(|t| t.outcome.clone()) {

@@ -68,6 +68,21 @@ pub(crate) struct Task {
     pub(crate) outcome: Option<Result<(), String>>,
 }
 
+impl Task {
+    /// A task that runs `steps`.
+    pub(crate) fn new(id: u32, steps: Vec<Primitive>) -> Task {
+        Task {
+            id,
+            queue: steps.into(),
+            end_steps: None,
+            lines: Default::default(),
+            wait_steps: 0,
+            blocked: 0,
+            outcome: None,
+        }
+    }
+}
+
 pub(crate) struct Arm {
     pub(crate) name: String,
     pub(crate) model: ArmModel,
@@ -77,6 +92,12 @@ pub(crate) struct Arm {
     pub(crate) gripper: RigidBodyHandle,
     pub(crate) holding: Option<(usize, ImpulseJointHandle)>,
     pub(crate) task: Option<Task>,
+    /// A stall fault: the arm does not move before this step.
+    pub(crate) stalled_until: u64,
+    /// A stop fault: the arm never moves again.
+    pub(crate) stopped: bool,
+    /// A block that slipped from the gripper, not yet reported to a task.
+    pub(crate) lost: Option<usize>,
 }
 
 /// The simulated world.
@@ -87,6 +108,23 @@ pub struct World {
     pub(crate) arms: Vec<Arm>,
     /// The cells the program mentions, for the read-back.
     pub(crate) cells: Vec<(i64, i64)>,
+    /// Physics steps taken.
+    pub(crate) steps: u64,
+}
+
+/// Where a block is, as the read-back sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Placement {
+    /// Held by an arm.
+    Held(usize),
+    /// Resting flat on the table, on a cell.
+    OnTable(i64, i64),
+    /// Resting flat on another block, on a cell.
+    On(usize, i64, i64),
+    /// Resting flat on the table, but not on a cell: an arm can pick it up.
+    Loose,
+    /// Anywhere else (off the table, leaning, on nothing): why.
+    Lost(String),
 }
 
 impl World {
@@ -128,10 +166,12 @@ impl World {
         let (min_y, max_y) = (cells.iter().map(|p| p.1).min().unwrap(), cells.iter().map(|p| p.1).max().unwrap());
         let centre = Vector3::new((min_x + max_x) as f64 * c / 2.0, (min_y + max_y) as f64 * c / 2.0, 0.0);
         let half = Vector3::new((max_x - min_x + 1) as f64 * c / 2.0, (max_y - min_y + 1) as f64 * c / 2.0, 0.0);
-        // The table: a slab under the cells with a margin of a cell.
+        // The table: a slab under the cells, wide enough to reach under the arms' resting
+        // points (so a block that slips there lands on the table, not the floor).
+        let table = half.norm() + 0.1;
         physics.insert(
             RigidBodyBuilder::fixed().translation(to_glam(centre - Vector3::new(0.0, 0.0, 0.05))),
-            ColliderBuilder::cuboid((half.x + c) as f32, (half.y + c) as f32, 0.05).friction(0.8),
+            ColliderBuilder::cuboid(table as f32, table as f32, 0.05).friction(0.8),
         );
         // Blocks, stack by stack: the stack on each table block, bottom up.
         let h = config.block_size / 2.0;
@@ -184,9 +224,83 @@ impl World {
             let rest = centre + outward * (half.norm() + 0.03) + Vector3::new(0.0, 0.0, config.shoulder_height);
             let joints = model.inverse(rest).ok_or_else(|| SimError(format!("arm `{name}` cannot reach its rest")))?;
             let gripper = physics.insert_body(RigidBodyBuilder::kinematic_position_based().translation(to_glam(rest)));
-            arms.push(Arm { name, model, joints, rest, gripper, holding: None, task: None });
+            arms.push(Arm {
+                name,
+                model,
+                joints,
+                rest,
+                gripper,
+                holding: None,
+                task: None,
+                stalled_until: 0,
+                stopped: false,
+                lost: None,
+            });
         }
-        Ok(World { physics, config, blocks, arms, cells })
+        Ok(World { physics, config, blocks, arms, cells, steps: 0 })
+    }
+
+    /// Adds cells to the table beyond those the world was built with (the KB's other cells):
+    /// the table grows under them, the read-back recognises blocks on them, and a recovery
+    /// may put blocks down there. The arms keep their places (reaching a far cell is checked
+    /// when a motion starts).
+    pub fn add_cells(&mut self, cells: &[(i64, i64)]) {
+        let new: Vec<(i64, i64)> = cells.iter().copied().filter(|c| !self.cells.contains(c)).collect();
+        if new.is_empty() {
+            return;
+        }
+        let c = self.config.cell_size;
+        let (min_x, max_x) = (new.iter().map(|p| p.0).min().unwrap(), new.iter().map(|p| p.0).max().unwrap());
+        let (min_y, max_y) = (new.iter().map(|p| p.1).min().unwrap(), new.iter().map(|p| p.1).max().unwrap());
+        let centre = Vector3::new((min_x + max_x) as f64 * c / 2.0, (min_y + max_y) as f64 * c / 2.0, -0.05);
+        let half =
+            Vector3::new((max_x - min_x + 1) as f64 * c / 2.0 + c, (max_y - min_y + 1) as f64 * c / 2.0 + c, 0.05);
+        self.physics.insert(
+            RigidBodyBuilder::fixed().translation(to_glam(centre)),
+            ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32).friction(0.8),
+        );
+        self.cells.extend(new);
+        self.cells.sort();
+    }
+
+    /// The world's dimensions, speeds and time step.
+    pub fn config(&self) -> &SimConfig {
+        &self.config
+    }
+
+    /// The poses now.
+    pub(crate) fn frame(&self) -> super::Frame {
+        let blocks = self
+            .blocks
+            .iter()
+            .map(|b| {
+                let body = &self.physics.bodies[b.body];
+                let (p, q) = (body.translation(), body.rotation());
+                [p.x, p.y, p.z, q.x, q.y, q.z, q.w].map(|v| (v as f64 * 1e4).round() / 1e4)
+            })
+            .collect();
+        let grippers = (0..self.arms.len())
+            .map(|a| {
+                let p = self.gripper_position(a);
+                [p.x, p.y, p.z].map(|v| (v * 1e4).round() / 1e4)
+            })
+            .collect();
+        super::Frame { time: self.steps as f64 * self.config.step_seconds(), blocks, grippers }
+    }
+
+    /// The names of the arms that have stopped for good.
+    pub fn stopped_arms(&self) -> Vec<String> {
+        self.arms.iter().filter(|a| a.stopped).map(|a| a.name.clone()).collect()
+    }
+
+    /// The names of the arms, in the order of the initial state's `available/1` facts.
+    pub fn arm_names(&self) -> Vec<String> {
+        self.arms.iter().map(|a| a.name.clone()).collect()
+    }
+
+    /// The names of the blocks.
+    pub fn block_names(&self) -> Vec<String> {
+        self.blocks.iter().map(|b| b.name.clone()).collect()
     }
 
     pub(crate) fn block_index(&self, name: &str) -> Option<usize> {
@@ -239,7 +353,19 @@ impl World {
     /// Starts the next primitive of arm `arm`'s task (its motion lines or its wait), or ends
     /// the task when none is left.
     pub(crate) fn begin_next(&mut self, arm: usize) {
-        let Some(task) = self.arms[arm].task.as_mut() else { return };
+        if self.arms[arm].task.is_none() {
+            return;
+        }
+        let refusal = if self.arms[arm].stopped {
+            Some(format!("{} has stopped: its controller reports a fault", self.arms[arm].name))
+        } else {
+            self.arms[arm].lost.take().map(|b| self.slipped(arm, b))
+        };
+        let task = self.arms[arm].task.as_mut().expect("checked above");
+        if let Some(why) = refusal {
+            task.outcome = Some(Err(why));
+            return;
+        }
         let Some(primitive) = task.queue.pop_front() else {
             task.outcome = Some(Ok(()));
             return;
@@ -369,8 +495,11 @@ impl World {
         let patience = (self.config.blocked_seconds / dt).ceil() as u32;
         let why = blocker.map(|(b, d)| {
             format!(
-                "{} was blocked for {:.1} s by {}'s gripper ({d:.3} m away)",
-                self.arms[arm].name, self.config.blocked_seconds, self.arms[b].name
+                "{} was blocked for {:.1} s by {}'s gripper ({d:.3} m away{})",
+                self.arms[arm].name,
+                self.config.blocked_seconds,
+                self.arms[b].name,
+                if self.arms[b].stopped { ", stopped for good" } else { "" }
             )
         });
         let Arm { joints, task, .. } = &mut self.arms[arm];
@@ -399,87 +528,199 @@ impl World {
     pub(crate) fn step(&mut self) {
         let dt = self.config.step_seconds();
         for arm in 0..self.arms.len() {
-            let Some(task) = self.arms[arm].task.as_ref().filter(|t| t.outcome.is_none()) else { continue };
-            match task.lines.front() {
-                Some(line) => self.follow(arm, line.clone(), dt),
-                None if task.wait_steps > 0 => {
-                    self.arms[arm].task.as_mut().expect("checked above").wait_steps -= 1;
+            let frozen = self.arms[arm].stopped || self.steps < self.arms[arm].stalled_until;
+            if let Some(task) = self.arms[arm].task.as_ref().filter(|t| t.outcome.is_none() && !frozen) {
+                match task.lines.front() {
+                    Some(line) => self.follow(arm, line.clone(), dt),
+                    None if task.wait_steps > 0 => {
+                        self.arms[arm].task.as_mut().expect("checked above").wait_steps -= 1;
+                    }
+                    None => self.begin_next(arm),
                 }
-                None => self.begin_next(arm),
             }
             let target = to_glam(self.gripper_position(arm));
             self.physics.bodies[self.arms[arm].gripper].set_next_kinematic_translation(target);
         }
         self.physics.step();
+        self.steps += 1;
     }
 
-    /// The world as facts: `ontable/3`, `on/4`, `clear/1` for every block that rests on a
-    /// cell (within a third of a cell) squarely on the table or on another block (within
-    /// 1 cm), `available/1` for every arm that holds nothing, `gripped/2` for held
-    /// blocks; and the blocks that are none of these (fallen, tilted, between cells).
-    pub fn facts(&self) -> (Vec<Fact>, Vec<String>) {
+    fn slipped(&self, arm: usize, block: usize) -> String {
+        format!("`{}` slipped from {}'s gripper", self.blocks[block].name, self.arms[arm].name)
+    }
+
+    /// Whether arm `arm` carries a block and is moving it.
+    pub(crate) fn carrying(&self, arm: usize) -> bool {
+        let a = &self.arms[arm];
+        a.holding.is_some() && a.task.as_ref().is_some_and(|t| t.outcome.is_none() && !t.lines.is_empty())
+    }
+
+    /// A drop fault: arm `arm`'s gripper lets go of its block, which falls. The gripper's
+    /// sensor notices: the running task fails, or else the next one the arm starts.
+    pub(crate) fn drop_held(&mut self, arm: usize) -> Option<String> {
+        let (block, joint) = self.arms[arm].holding.take()?;
+        self.physics.remove_impulse_joint(joint);
+        self.physics.bodies[self.blocks[block].body].wake_up(true);
+        let why = self.slipped(arm, block);
+        match self.arms[arm].task.as_mut().filter(|t| t.outcome.is_none()) {
+            Some(task) => task.outcome = Some(Err(why.clone())),
+            None => self.arms[arm].lost = Some(block),
+        }
+        let p = self.block_position(block);
+        Some(format!("{why} at ({:.3}, {:.3}, {:.3}) m", p.x, p.y, p.z))
+    }
+
+    /// A stall fault: arm `arm` does not move for `seconds`.
+    pub(crate) fn stall(&mut self, arm: usize, seconds: f64) {
+        self.arms[arm].stalled_until = self.steps + (seconds / self.config.step_seconds()).ceil() as u64;
+    }
+
+    /// Whether any arm is stalled now.
+    pub(crate) fn any_stalled(&self) -> bool {
+        self.arms.iter().any(|a| !a.stopped && self.steps < a.stalled_until)
+    }
+
+    /// A stop fault: arm `arm` never moves again; its running task fails.
+    pub(crate) fn stop(&mut self, arm: usize) {
+        self.arms[arm].stopped = true;
+        let why = format!("{} has stopped: its controller reports a fault", self.arms[arm].name);
+        if let Some(task) = self.arms[arm].task.as_mut().filter(|t| t.outcome.is_none()) {
+            task.outcome = Some(Err(why));
+        }
+    }
+
+    /// The top block of the stack `block` belongs to.
+    pub(crate) fn top_of_stack(&self, block: usize) -> usize {
+        let mut top = block;
+        while let Some(above) =
+            (0..self.blocks.len()).find(|&j| matches!(self.placement(j), Placement::On(b, ..) if b == top))
+        {
+            top = above;
+        }
+        top
+    }
+
+    /// The cells with nothing on them (no block within half a cell of the centre), in order.
+    pub(crate) fn free_cells(&self) -> Vec<(i64, i64)> {
+        let c = self.config.cell_size;
+        self.cells
+            .iter()
+            .copied()
+            .filter(|&(x, y)| {
+                (0..self.blocks.len()).all(|i| {
+                    let p = self.block_position(i);
+                    self.held(i) || (p.x - x as f64 * c).abs() >= c / 2.0 || (p.y - y as f64 * c).abs() >= c / 2.0
+                })
+            })
+            .collect()
+    }
+
+    /// The free cell nearest to the point (x, y), the first in order among equals.
+    pub(crate) fn nearest_free_cell(&self, x: f64, y: f64) -> Option<(i64, i64)> {
+        let c = self.config.cell_size;
+        let distance = |&(cx, cy): &(i64, i64)| (cx as f64 * c - x).hypot(cy as f64 * c - y);
+        self.free_cells().into_iter().min_by(|a, b| distance(a).total_cmp(&distance(b)))
+    }
+
+    /// A nudge fault: `block` is pushed onto the centre of `cell`, upright and at rest.
+    pub(crate) fn nudge(&mut self, block: usize, (x, y): (i64, i64)) -> String {
+        let c = self.config.cell_size;
+        let before = self.block_position(block);
+        let at = Vector3::new(x as f64 * c, y as f64 * c, self.config.block_size / 2.0 + 0.001);
+        let body = &mut self.physics.bodies[self.blocks[block].body];
+        body.set_translation(to_glam(at), true);
+        body.set_rotation(rapier3d::math::Rotation::IDENTITY, true);
+        body.set_linvel(Vector::ZERO, true);
+        body.set_angvel(Vector::ZERO, true);
+        format!(
+            "`{}` was pushed from ({:.3}, {:.3}) m onto cell ({x}, {y})",
+            self.blocks[block].name, before.x, before.y
+        )
+    }
+
+    /// Where block `i` is: held, on a cell (on the table or on a block), loose on the table
+    /// between cells, or lost (with why).
+    pub(crate) fn placement(&self, i: usize) -> Placement {
+        if let Some(arm) = self.arms.iter().position(|a| a.holding.is_some_and(|(b, _)| b == i)) {
+            return Placement::Held(arm);
+        }
         let h = self.config.block_size / 2.0;
         let c = self.config.cell_size;
+        let p = self.block_position(i);
+        let rotation = self.physics.bodies[self.blocks[i].body].rotation();
+        // A cube lies flat on any face: one of its axes is vertical.
+        let flat = [Vector::X, Vector::Y, Vector::Z].iter().any(|&axis| (rotation * axis).z.abs() > 0.99);
+        if p.z < 0.0 {
+            return Placement::Lost("off the table".to_string());
+        }
+        if !flat {
+            return Placement::Lost("tipped over".to_string());
+        }
+        let (cx, cy) = ((p.x / c).round() as i64, (p.y / c).round() as i64);
+        let off_cell = (p.x - cx as f64 * c).abs().max((p.y - cy as f64 * c).abs());
+        let on_cell = off_cell <= c / 3.0 && self.cells.contains(&(cx, cy));
+        if (p.z - h).abs() < 0.01 {
+            return if on_cell { Placement::OnTable(cx, cy) } else { Placement::Loose };
+        }
+        let below = (0..self.blocks.len()).find(|&j| {
+            let q = self.block_position(j);
+            j != i
+                && !self.held(j)
+                && (q.x - p.x).abs() < h
+                && (q.y - p.y).abs() < h
+                && (p.z - q.z - 2.0 * h).abs() < 0.01
+        });
+        match below {
+            Some(j) if on_cell => Placement::On(j, cx, cy),
+            Some(_) => Placement::Lost("on a block that is not on a cell".to_string()),
+            None => Placement::Lost("resting on nothing".to_string()),
+        }
+    }
+
+    /// The world as facts: `ontable/3`, `on/4`, `clear/1` for every block that rests flat on
+    /// a cell (within a third of a cell) on the table or on another block (within 1 cm),
+    /// `available/1` for every arm that holds nothing and has not stopped, `gripped/2` for
+    /// held blocks; and a line for each block that is none of these (loose between cells,
+    /// fallen off the table, tipped over).
+    pub fn facts(&self) -> (Vec<Fact>, Vec<String>) {
+        let atom = |s: &str| Arg::Atom(s.to_string());
         let mut facts = Vec::new();
         let mut unaccounted = Vec::new();
         let mut covered = vec![false; self.blocks.len()];
         let mut resting = Vec::new();
         for (i, block) in self.blocks.iter().enumerate() {
-            if let Some(arm) = self.arms.iter().find(|a| a.holding.is_some_and(|(b, _)| b == i)) {
-                facts.push(Fact::new("gripped", vec![Arg::Atom(arm.name.clone()), Arg::Atom(block.name.clone())]));
-                continue;
-            }
             let p = self.block_position(i);
-            let (cx, cy) = ((p.x / c).round() as i64, (p.y / c).round() as i64);
-            let off_cell = (p.x - cx as f64 * c).abs().max((p.y - cy as f64 * c).abs());
-            let rotation = self.physics.bodies[block.body].rotation();
-            let upright = (rotation * Vector::Z).z > 0.99;
-            if off_cell > c / 3.0 || !upright || !self.cells.contains(&(cx, cy)) {
-                unaccounted.push(format!(
-                    "`{}` is at ({:.3}, {:.3}, {:.3}) m, {}",
-                    block.name,
-                    p.x,
-                    p.y,
-                    p.z,
-                    if !upright { "tipped over" } else { "not on a cell of the table" }
-                ));
-                continue;
-            }
-            if (p.z - h).abs() < 0.01 {
-                facts.push(Fact::new("ontable", vec![Arg::Atom(block.name.clone()), Arg::Int(cx), Arg::Int(cy)]));
-                resting.push(i);
-                continue;
-            }
-            let below = (0..self.blocks.len()).find(|&j| {
-                let q = self.block_position(j);
-                j != i && (q.x - p.x).abs() < h && (q.y - p.y).abs() < h && (p.z - q.z - 2.0 * h).abs() < 0.01
-            });
-            match below {
-                Some(j) => {
-                    covered[j] = true;
-                    facts.push(Fact::new(
-                        "on",
-                        vec![
-                            Arg::Atom(block.name.clone()),
-                            Arg::Atom(self.blocks[j].name.clone()),
-                            Arg::Int(cx),
-                            Arg::Int(cy),
-                        ],
-                    ));
+            match self.placement(i) {
+                Placement::Held(arm) => {
+                    facts.push(Fact::new("gripped", vec![atom(&self.arms[arm].name), atom(&block.name)]));
+                }
+                Placement::OnTable(x, y) => {
+                    facts.push(Fact::new("ontable", vec![atom(&block.name), Arg::Int(x), Arg::Int(y)]));
                     resting.push(i);
                 }
-                None => unaccounted
-                    .push(format!("`{}` is at ({:.3}, {:.3}, {:.3}) m, resting on nothing", block.name, p.x, p.y, p.z)),
+                Placement::On(j, x, y) => {
+                    covered[j] = true;
+                    let args = vec![atom(&block.name), atom(&self.blocks[j].name), Arg::Int(x), Arg::Int(y)];
+                    facts.push(Fact::new("on", args));
+                    resting.push(i);
+                }
+                Placement::Loose => unaccounted.push(format!(
+                    "`{}` is at ({:.3}, {:.3}, {:.3}) m, on the table between cells",
+                    block.name, p.x, p.y, p.z
+                )),
+                Placement::Lost(why) => {
+                    unaccounted.push(format!("`{}` is at ({:.3}, {:.3}, {:.3}) m, {why}", block.name, p.x, p.y, p.z))
+                }
             }
         }
         for i in resting {
             if !covered[i] {
-                facts.push(Fact::new("clear", vec![Arg::Atom(self.blocks[i].name.clone())]));
+                facts.push(Fact::new("clear", vec![atom(&self.blocks[i].name)]));
             }
         }
         for arm in &self.arms {
-            if arm.holding.is_none() {
-                facts.push(Fact::new("available", vec![Arg::Atom(arm.name.clone())]));
+            if arm.holding.is_none() && !arm.stopped {
+                facts.push(Fact::new("available", vec![atom(&arm.name)]));
             }
         }
         (facts, unaccounted)
@@ -508,15 +749,7 @@ mod tests {
 
     /// Runs `steps` on arm 0 until they finish (or 20 simulated seconds pass).
     fn run(world: &mut World, steps: Vec<Primitive>) -> Result<(), String> {
-        world.arms[0].task = Some(Task {
-            id: 0,
-            queue: steps.into(),
-            end_steps: None,
-            lines: Default::default(),
-            wait_steps: 0,
-            blocked: 0,
-            outcome: None,
-        });
+        world.arms[0].task = Some(Task::new(0, steps));
         world.begin_next(0);
         for _ in 0..2000 {
             if let Some(outcome) = world.arms[0].task.as_ref().and_then(|t| t.outcome.clone()) {

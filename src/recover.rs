@@ -1,0 +1,382 @@
+//! Running a compiled plan on the simulated arms and recovering from faults: the paper's
+//! feedback loop of executing, observing the world and replanning.
+//!
+//! A round runs one program in the simulated world. It ends well when the tree succeeds and
+//! the world read back satisfies the goal with every block on a cell. Otherwise the fault
+//! was detected (an action failed or overran its duration, or the tree finished with the
+//! world disagreeing with the goal) and, while recoveries are allowed, the world is brought
+//! to rest ([`SimHost::recover`]), read back into facts, and a new problem is made of them:
+//! the same goal, from the blocks where they really are and with the arms still working.
+//! Its plan is compiled for the same host and run in the same world as the next round.
+//!
+//! Nothing here does IO: the caller prints the rounds.
+
+use kbvm::Program;
+use kbvm::sim::SimHost;
+
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::driver::{self, Frontend};
+use crate::execute::{self, HostEvent, Logged, Outcome, Run};
+use crate::ir::hir::{Literal, Problem, Term};
+use crate::ir::plan::Plan;
+use crate::planner::{self, Options};
+use crate::source::SourceDb;
+use crate::validate;
+
+/// The predicates the simulated world reads back; an initial fact of any other predicate is
+/// carried over into a replanned problem unchanged (the world cannot observe it).
+pub const OBSERVED: &[(&str, usize)] = &[("ontable", 3), ("on", 4), ("clear", 1), ("available", 1), ("gripped", 2)];
+
+/// How to run and recover.
+pub struct Settings<'a> {
+    /// Replan after a fault (otherwise the first fault ends the run).
+    pub replan: bool,
+    /// The most recoveries before giving up.
+    pub max_recoveries: u32,
+    /// The search options for each replan (a fresh deadline each time).
+    pub options: &'a dyn Fn() -> Options,
+    /// The host profile the replanned programs are checked against.
+    pub profile: (&'a str, &'a [(&'a str, usize)]),
+    /// Each round's time budget (program units) and tick budget.
+    pub max_time: i64,
+    /// Each round's tick budget.
+    pub max_ticks: u64,
+}
+
+/// One program run in the world.
+pub struct Round {
+    /// The problem it was planned for (an index into the KB's problems).
+    pub problem: usize,
+    /// The program.
+    pub program: Program,
+    /// Its plan's makespan (program units).
+    pub planned_makespan: i64,
+    /// The world's time when it started.
+    pub offset: i64,
+    /// How the tree ended.
+    pub run: Run,
+    /// What the host did, in program time.
+    pub log: Vec<(i64, kbvm::bytecode::EventId, HostEvent)>,
+    /// Why the round did not reach the goal (`None` if it did).
+    pub detected: Option<String>,
+    /// What bringing the world to rest did after the round (empty if it was not needed).
+    pub recovery: Vec<String>,
+}
+
+/// How an execution ended.
+pub enum Verdict {
+    /// The goal holds in the world read back and every block is on a cell.
+    GoalReached,
+    /// The last round did not reach the goal and no recovery is allowed or left.
+    GaveUp {
+        /// Why the last round failed, and why it was not recovered from.
+        why: String,
+        /// Whether recovering was considered: not for a budget that ran out or a malformed
+        /// program, which are no faults of the world.
+        considered: bool,
+    },
+    /// The world read back cannot reach the goal: a block it needs is lost, or held by a
+    /// stopped arm, or no arm works.
+    Unrecoverable {
+        /// Why.
+        why: String,
+    },
+    /// No plan from the world read back (the problem is the one replanned).
+    NoPlan {
+        /// The replanned problem.
+        problem: usize,
+        /// The search's failure.
+        failure: planner::Failure,
+        /// The search's figures.
+        stats: planner::Stats,
+    },
+    /// A replanned plan could not be scheduled or compiled: the diagnostics say why.
+    NotCompiled(Diagnostics),
+    /// The executed timeline of a round breaks the KB: a compiler bug.
+    InvalidTimeline(Diagnostics),
+}
+
+/// A finished execution: its rounds, the world, and how it ended.
+pub struct Execution {
+    /// The rounds, in order.
+    pub rounds: Vec<Round>,
+    /// The host, with the world as it ended.
+    pub sim: SimHost,
+    /// How it ended.
+    pub verdict: Verdict,
+    /// The world read back at the end, and the blocks not on a cell.
+    pub facts: (Vec<Term>, Vec<String>),
+}
+
+/// Runs `program` (planned for `problem`, with makespan `planned`) in `sim`'s world, and
+/// recovers from faults as `settings` allow.
+pub fn execute(
+    frontend: &mut Frontend,
+    db: &mut SourceDb,
+    problem: usize,
+    program: Program,
+    planned: i64,
+    mut sim: SimHost,
+    settings: &Settings<'_>,
+) -> Execution {
+    let mut rounds: Vec<Round> = Vec::new();
+    let mut current = (problem, program, planned);
+    // The world each recovery left, to see when recovering gets nowhere.
+    let mut recovered: Vec<Vec<String>> = Vec::new();
+    loop {
+        let (round_problem, program, planned_makespan) = current;
+        sim.start_program();
+        let offset = sim.time();
+        let start_world = sorted_facts(sim.world());
+        let mut host = Logged::new(sim);
+        // The time budget counts on the world's clock, across rounds.
+        let run = execute::run(&program, &mut host, (settings.max_time - offset).max(0), settings.max_ticks);
+        let log = host.log;
+        sim = host.host;
+        // The goal, without what a stopped arm can no longer make true.
+        let (goal, _) = waive(frontend, problem, &sim.world().stopped_arms());
+        if run.outcome == Outcome::Success {
+            // The tree says the plan was carried out: its timeline must satisfy the KB.
+            let diagnostics = check_timeline(frontend, db, round_problem, &program, &run);
+            if diagnostics.has_errors() {
+                let facts = execute::world_facts(sim.world(), &mut frontend.interner);
+                rounds.push(Round {
+                    problem: round_problem,
+                    program,
+                    planned_makespan,
+                    offset,
+                    run,
+                    log,
+                    detected: None,
+                    recovery: Vec::new(),
+                });
+                return Execution { rounds, sim, verdict: Verdict::InvalidTimeline(diagnostics), facts };
+            }
+        }
+        let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
+        let detected = match &run.outcome {
+            Outcome::Success => {
+                let unmet = execute::unmet_goals(&goal, &facts);
+                if unmet.is_empty() && unaccounted.is_empty() {
+                    None
+                } else if unmet.is_empty() {
+                    Some(format!("the tree succeeded, but {}", unaccounted.join("; ")))
+                } else {
+                    let show = |t: &Term| crate::ir::hir::term_to_string(&frontend.interner, t, &Default::default());
+                    let unmet: Vec<String> = unmet.iter().map(|t| format!("`{}`", show(t))).collect();
+                    Some(format!("the tree succeeded, but the world lacks {}", unmet.join(", ")))
+                }
+            }
+            Outcome::Failure(failure) => Some(failure.describe(&program)),
+            Outcome::Stuck => Some("the tree is stuck: it waits for an event no node will record".to_string()),
+            Outcome::Budget => Some("the round passed its time or tick budget".to_string()),
+        };
+        let mut round = Round {
+            problem: round_problem,
+            program,
+            planned_makespan,
+            offset,
+            run,
+            log,
+            detected,
+            recovery: Vec::new(),
+        };
+        let Some(why) = round.detected.clone() else {
+            rounds.push(round);
+            return Execution { rounds, sim, verdict: Verdict::GoalReached, facts: (facts, unaccounted) };
+        };
+        let recoveries = rounds.len() as u32;
+        if matches!(round.run.outcome, Outcome::Budget | Outcome::Stuck) {
+            rounds.push(round);
+            let verdict = Verdict::GaveUp { why, considered: false };
+            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+        }
+        if !settings.replan || recoveries >= settings.max_recoveries {
+            rounds.push(round);
+            let why = if settings.replan {
+                format!("{recoveries} recoveries were made, the most `--max-recoveries` allows")
+            } else {
+                why
+            };
+            let verdict = Verdict::GaveUp { why, considered: true };
+            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+        }
+        // Recover: bring the world to rest, read it back, and plan from there; unless the
+        // round changed nothing (the tree succeeded without moving a block as the goal
+        // needs, so a replan would run the same plan again).
+        round.recovery = sim.recover();
+        rounds.push(round);
+        if run_succeeded(&rounds) && sorted_facts(sim.world()) == start_world {
+            let why = "the round changed nothing in the world, so a new plan would repeat it".to_string();
+            let verdict = Verdict::GaveUp { why, considered: true };
+            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+        }
+        let world = sorted_facts(sim.world());
+        if recovered.contains(&world) {
+            let why = format!(
+                "after the fault, recovering led back to a world it had already planned from, and the new plan \
+                 failed again: {why}"
+            );
+            let verdict = Verdict::Unrecoverable { why };
+            let facts = execute::world_facts(sim.world(), &mut frontend.interner);
+            return Execution { rounds, sim, verdict, facts };
+        }
+        recovered.push(world);
+        let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
+        if let Some(why) = unreachable_goal(frontend, &goal, &facts, &unaccounted, &sim) {
+            let verdict = Verdict::Unrecoverable { why };
+            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+        }
+        let new_problem = replanned_problem(frontend, problem, &facts, &sim.world().stopped_arms());
+        let mut task = crate::passes::task::build(&frontend.kb, new_problem);
+        let options = (settings.options)();
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut planner::Silent);
+        let plan = match outcome.result {
+            Ok(plan) => plan,
+            Err(failure) => {
+                let verdict = Verdict::NoPlan { problem: new_problem, failure, stats: outcome.stats };
+                return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            }
+        };
+        match compile(frontend, db, &plan, settings.profile) {
+            Ok((program, makespan)) => current = (new_problem, program, makespan),
+            Err(diagnostics) => {
+                let verdict = Verdict::NotCompiled(diagnostics);
+                return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            }
+        }
+    }
+}
+
+fn run_succeeded(rounds: &[Round]) -> bool {
+    rounds.last().is_some_and(|r| r.run.outcome == Outcome::Success)
+}
+
+/// The world read back, as sorted text, to compare two moments.
+fn sorted_facts(world: &kbvm::sim::World) -> Vec<String> {
+    let (facts, unaccounted) = world.facts();
+    let mut text: Vec<String> = facts.iter().map(|f| f.to_string()).chain(unaccounted).collect();
+    text.sort();
+    text
+}
+
+/// The goal of `problem` split into the literals kept and those waived: a literal that names a
+/// stopped arm (`available(a2)` once a2 has stopped) can never hold again, whatever the
+/// other arms do.
+pub fn waive(frontend: &Frontend, problem: usize, stopped: &[String]) -> (Vec<Term>, Vec<Term>) {
+    let interner = &frontend.interner;
+    let names_stopped = |t: &Term| {
+        t.args().iter().any(|a| matches!(a, Term::Atom(s) if stopped.iter().any(|n| n == interner.resolve(*s))))
+    };
+    frontend.kb.problems[problem].goal.iter().map(|l| l.term.clone()).partition(|t| !names_stopped(t))
+}
+
+/// Why the goal cannot be reached from the world read back, if that is plain without a
+/// search: a goal block lost or held by a stopped arm, or no arm left.
+fn unreachable_goal(
+    frontend: &Frontend,
+    goal: &[Term],
+    facts: &[Term],
+    unaccounted: &[String],
+    sim: &SimHost,
+) -> Option<String> {
+    let interner = &frontend.interner;
+    let mut goal_atoms = Vec::new();
+    for literal in goal {
+        for arg in literal.args() {
+            if let Term::Atom(a) = arg {
+                goal_atoms.push(interner.resolve(*a).to_string());
+            }
+        }
+    }
+    for line in unaccounted {
+        let name = line.split('`').nth(1).unwrap_or_default();
+        if goal_atoms.iter().any(|a| a == name) {
+            return Some(format!("the goal needs `{name}`, which no arm can pick up: {line}"));
+        }
+    }
+    let stopped = sim.world().stopped_arms();
+    for fact in facts {
+        if let Term::Compound(name, args) = fact
+            && let [Term::Atom(arm), Term::Atom(block)] = &args[..]
+            && interner.resolve(*name) == "gripped"
+            && stopped.iter().any(|s| s == interner.resolve(*arm))
+        {
+            let (arm, block) = (interner.resolve(*arm), interner.resolve(*block));
+            if goal_atoms.iter().any(|a| a == block) {
+                return Some(format!("the goal needs `{block}`, which {arm} holds and {arm} has stopped"));
+            }
+        }
+    }
+    let available = facts.iter().any(|f| f.callable().is_some_and(|(n, _)| interner.resolve(n) == "available"));
+    if !available {
+        return Some(format!("no arm is left to work: {} stopped", stopped.join(", ")));
+    }
+    None
+}
+
+/// Adds the problem "the original goal, from the world read back" to the KB: the facts read
+/// back, plus the original initial facts of predicates the world does not observe.
+fn replanned_problem(frontend: &mut Frontend, original: usize, facts: &[Term], stopped: &[String]) -> usize {
+    let (_, waived) = waive(frontend, original, stopped);
+    let interner = &mut frontend.interner;
+    let observed: Vec<(crate::intern::Symbol, usize)> =
+        OBSERVED.iter().map(|&(n, a)| (interner.intern(n), a)).collect();
+    let base = &frontend.kb.problems[original];
+    let span = base.name_span;
+    let literal = |term: Term| Literal { term, span, name_span: span };
+    let mut init: Vec<Literal> = facts.iter().cloned().map(literal).collect();
+    init.extend(base.init.iter().filter(|l| !observed.iter().any(|&(n, a)| l.name() == n && l.arity() == a)).cloned());
+    let round = frontend.kb.problems.len();
+    let name = format!("{}_from_world_{round}", interner.resolve(base.name));
+    let goal = base.goal.iter().filter(|l| !waived.contains(&l.term)).cloned().collect();
+    let problem = Problem { name: interner.intern(&name), init, goal, ..base.clone() };
+    frontend.kb.problems.push(problem);
+    frontend.kb.problems.len() - 1
+}
+
+/// Schedules and compiles a replanned plan for the host; the program and its makespan.
+fn compile(
+    frontend: &Frontend,
+    db: &SourceDb,
+    plan: &Plan,
+    profile: (&str, &[(&str, usize)]),
+) -> Result<(Program, i64), Diagnostics> {
+    let mut diagnostics = Diagnostics::new();
+    let program = planner::program_for(&frontend.kb, plan.problem);
+    let Some(timed) = driver::schedule(&frontend.kb, &frontend.interner, &program, plan, &mut diagnostics) else {
+        return Err(diagnostics);
+    };
+    match driver::build_bytecode(&frontend.kb, &frontend.interner, db, plan, &timed, Some(profile)) {
+        Ok((_, module)) => {
+            let program = Program::load(&module.encode())
+                .unwrap_or_else(|e| panic!("internal compiler error: the generated bytecode does not load: {e}"));
+            Ok((program, timed.schedule.makespan))
+        }
+        Err(diagnostic) => {
+            diagnostics.push(*diagnostic);
+            Err(diagnostics)
+        }
+    }
+}
+
+/// The executed timeline of a round checked on the KB by the timed validator.
+fn check_timeline(
+    frontend: &mut Frontend,
+    db: &mut SourceDb,
+    problem: usize,
+    program: &Program,
+    run: &Run,
+) -> Diagnostics {
+    let mut diagnostics = Diagnostics::new();
+    let text = execute::timed_plan(program, run);
+    let file = db.add("<executed timeline>", None, text.clone());
+    let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
+    let kb_program = planner::program_for(&frontend.kb, problem);
+    let verdict = validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
+    diagnostics.extend(verdict.diagnostics);
+    if diagnostics.has_errors() {
+        diagnostics.push(Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
+    }
+    diagnostics
+}
