@@ -231,7 +231,7 @@ fn conditions_and_effects_work_on_the_blackboard() {
     assert!(vm.fluent_holds(FluentId(0)));
     let failure = vm.failure().expect("a failure");
     assert_eq!(failure.reason, Reason::Forbidden(FluentId(0)));
-    assert_eq!(failure.describe(&p), "node @2 failed at time 1: `holding` holds, and the action forbids it");
+    assert_eq!(failure.describe(&p), "node @2 failed at program time 1: `holding` holds, and the action forbids it");
     vm.reset();
     assert!(!vm.fluent_holds(FluentId(0)), "reset restores the initial blackboard");
     assert_eq!(vm.event_time(EventId(0)), None);
