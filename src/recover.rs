@@ -135,24 +135,11 @@ pub fn execute(
         sim = host.host;
         // The goal, without what a stopped arm can no longer make true.
         let (goal, _) = waive(frontend, problem, &sim.world().stopped_arms());
-        if run.outcome == Outcome::Success {
-            // The tree says the plan was carried out: its timeline must satisfy the KB.
-            let diagnostics = check_timeline(frontend, db, round_problem, &program, &run);
-            if diagnostics.has_errors() {
-                let facts = execute::world_facts(sim.world(), &mut frontend.interner);
-                rounds.push(Round {
-                    problem: round_problem,
-                    program,
-                    planned_makespan,
-                    offset,
-                    run,
-                    log,
-                    detected: None,
-                    recovery: Vec::new(),
-                });
-                return Execution { rounds, sim, verdict: Verdict::InvalidTimeline(diagnostics), facts };
-            }
-        }
+        // When the tree says the plan was carried out, its timeline must satisfy the KB.
+        let timeline = match run.outcome {
+            Outcome::Success => check_timeline(frontend, db, round_problem, &program, &run),
+            _ => Diagnostics::new(),
+        };
         let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
         let detected = match &run.outcome {
             Outcome::Success => {
@@ -181,6 +168,11 @@ pub fn execute(
             detected,
             recovery: Vec::new(),
         };
+        if timeline.has_errors() {
+            rounds.push(round);
+            let verdict = Verdict::InvalidTimeline(timeline);
+            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+        }
         let Some(why) = round.detected.clone() else {
             rounds.push(round);
             return Execution { rounds, sim, verdict: Verdict::GoalReached, facts: (facts, unaccounted) };
