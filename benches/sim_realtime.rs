@@ -18,7 +18,7 @@ use kbc::passes;
 use kbc::planner::{self, Budget, Options, SearchKind, Silent};
 use kbc::source::SourceDb;
 use kbvm::Program;
-use kbvm::sim::{PRIMITIVES, SimConfig};
+use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 fn program(rung: &Rung) -> Program {
     let mut db = SourceDb::new();
@@ -48,7 +48,7 @@ fn main() {
         let mut makespan = 0;
         for _ in 0..3 {
             let started = Instant::now();
-            let sim = execute::sim_host(&program, SimConfig::default(), &[]).expect("a world");
+            let sim = SimHost::new(execute::sim_world(&program, SimConfig::default(), &[]).expect("a world"));
             let mut host = execute::Logged::new(sim);
             let run = execute::run(&program, &mut host, 100_000_000, 100_000_000);
             let elapsed = started.elapsed();

@@ -21,15 +21,15 @@ use std::time::Instant;
 
 use kbc::ir::pop::Reason;
 use kbc::ir::stn::{DurationSource, Edge, EdgeKind, Stn, TimePoint, UNITS};
-use kbc::ladder::SplitMix64;
 use kbc::passes::schedule;
+use kbvm::sim::Rng;
 use petgraph::graph::DiGraph;
 
 const SIZES: &[usize] = &[51, 101, 501, 1001, 2001, 5001, 10001, 20001];
 const ARMS: usize = 4;
 
 /// Draws below `bound` from SplitMix64 (by modulo: a benchmark input needs no exact uniformity).
-struct Random(SplitMix64);
+struct Random(Rng);
 
 impl Random {
     fn next(&mut self, bound: u64) -> u64 {
@@ -43,7 +43,7 @@ impl Random {
 /// end, or its start plus a separation), durations of 1 to 4 units with a maximum of 1 to 2
 /// units more or none (like `move_block`'s `inf`), and every point after the origin.
 fn plan_like(points: usize, seed: u64) -> Stn {
-    let mut random = Random(SplitMix64(seed));
+    let mut random = Random(Rng::new(seed));
     let actions = (points - 1) / 2;
     let mut graph: DiGraph<TimePoint, Edge> = DiGraph::new();
     let origin = graph.add_node(TimePoint::Origin);

@@ -98,10 +98,10 @@ impl<H: VirtualHost> VirtualHost for Logged<H> {
 
 /// The simulated world built from a program's initial state, laid out around the cells the
 /// program mentions; its table also covers `cells` (where a recovery may put blocks down).
-pub fn sim_host(program: &Program, config: SimConfig, cells: &[(i64, i64)]) -> Result<SimHost, SimError> {
+pub fn sim_world(program: &Program, config: SimConfig, cells: &[(i64, i64)]) -> Result<World, SimError> {
     let mut world = World::new(config, &initial_facts(program), &program_cells(program))?;
     world.add_cells(cells);
-    Ok(SimHost::new(world))
+    Ok(world)
 }
 
 /// The cells of the table a problem's KB declares: the answers to `pos(X, Y)` (std/blocks.pl's

@@ -10,7 +10,7 @@
 //!
 //! The table is a grid five cells wide with two more cells than blocks (`cell/2` facts), so a
 //! 20-block problem has 22 cells, as in the issue that asked for the ladder. Which block goes
-//! where is drawn from a seeded generator (SplitMix64), so a rung is the same problem on every
+//! where is drawn from a seeded generator (SplitMix64, `kbvm::sim::Rng`), so a rung is the same problem on every
 //! machine. Nothing here does IO; `kbc bench` prints the rows and can write the goal files.
 
 use std::time::{Duration, Instant};
@@ -20,6 +20,7 @@ use crate::passes;
 use crate::planner::{self, Budget, Failure, Options, SearchKind, Silent};
 use crate::source::SourceDb;
 use crate::validate;
+use kbvm::sim::Rng;
 
 /// A family of ladder problems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,39 +73,6 @@ pub fn standard() -> Vec<Rung> {
     rungs
 }
 
-/// SplitMix64: a small, well-mixed generator, enough to shuffle reproducibly (also used by
-/// the benchmarks to generate their inputs).
-pub struct SplitMix64(pub u64);
-
-impl SplitMix64 {
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A uniform integer below `n` (`n > 0`), by rejection so there is no modulo bias.
-    pub fn below(&mut self, n: usize) -> usize {
-        let n = n as u64;
-        let zone = u64::MAX - u64::MAX % n;
-        loop {
-            let x = self.next_u64();
-            if x < zone {
-                return (x % n) as usize;
-            }
-        }
-    }
-
-    fn shuffle<T>(&mut self, items: &mut [T]) {
-        for i in (1..items.len()).rev() {
-            items.swap(i, self.below(i + 1));
-        }
-    }
-}
-
 /// A tower: a cell and its blocks, bottom first.
 type Tower = ((usize, usize), Vec<usize>);
 
@@ -121,7 +89,7 @@ impl Rung {
 
     /// The initial and goal towers.
     fn towers(&self) -> (Vec<Tower>, Vec<Tower>) {
-        let mut random = SplitMix64(self.seed ^ (self.blocks as u64) << 32 ^ (self.arms as u64) << 48);
+        let mut random = Rng::new(self.seed ^ (self.blocks as u64) << 32 ^ (self.arms as u64) << 48);
         let mut cells = self.cells();
         random.shuffle(&mut cells);
         let mut blocks: Vec<usize> = (1..=self.blocks).collect();

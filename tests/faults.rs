@@ -32,13 +32,13 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
         driver::build_bytecode(&frontend.kb, &frontend.interner, &db, &plan, &timed, Some(("sim", PRIMITIVES)))
             .unwrap_or_else(|d| panic!("{what}: {}", d.message));
     let program = Program::load(&module.encode()).expect("loads");
-    let sim =
-        kbc::execute::sim_host(&program, SimConfig::default(), &kbc::execute::kb_cells(&frontend, 0)).expect("a world");
+    let world = kbc::execute::sim_world(&program, SimConfig::default(), &kbc::execute::kb_cells(&frontend, 0))
+        .expect("a world");
     let spec: FaultSpec = fault.parse().expect("a fault");
     let horizon = timed.schedule.makespan as f64 / program.module().time_scale as f64;
-    let resolved = spec.resolve(&sim.world().arm_names(), &sim.world().block_names(), horizon, &mut Rng::new(seed));
-    let blocks = sim.world().block_names();
-    let sim = SimHost::with_faults(sim.into_world(), vec![resolved], seed);
+    let blocks = world.block_names();
+    let resolved = spec.resolve(&world.arm_names(), &blocks, horizon, &mut Rng::new(seed));
+    let sim = SimHost::with_faults(world, vec![resolved], seed);
     // A small search budget: a replan that needs more is reported, not waited for.
     let options = || Options {
         search: SearchKind::Heuristic,

@@ -9,7 +9,7 @@ use kbc::driver::{self, Frontend};
 use kbc::execute::{self, Outcome};
 use kbc::source::SourceDb;
 use kbvm::Program;
-use kbvm::sim::{PRIMITIVES, SimConfig};
+use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 /// Plans, builds and runs one problem on the simulated arms; returns the read-back facts as
 /// text and the achieved makespan.
@@ -21,8 +21,8 @@ fn run_physically(frontend: &mut Frontend, db: &SourceDb, problem: usize, what: 
             .unwrap_or_else(|d| panic!("{what}: {}", d.message));
     assert!(!module.refinements.is_empty(), "{what}: the std mappings refine the actions");
     let program = Program::load(&module.encode()).expect("loads");
-    let sim =
-        execute::sim_host(&program, SimConfig::default(), &execute::kb_cells(frontend, problem)).expect("a world");
+    let world = execute::sim_world(&program, SimConfig::default(), &execute::kb_cells(frontend, problem));
+    let sim = SimHost::new(world.expect("a world"));
     let mut host = execute::Logged::new(sim);
     let run = execute::run(&program, &mut host, 10_000_000, 10_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}: {:?}", host.log.last());

@@ -257,10 +257,10 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         HostKind::Sim => {
             let config = SimConfig { units_per_second: program.module().time_scale as i64, ..SimConfig::default() };
             let cells = frontend.as_ref().map(|f| execute::kb_cells(f, problem)).unwrap_or_default();
-            match execute::sim_host(&program, config, &cells) {
-                Ok(sim) => {
+            match execute::sim_world(&program, config, &cells) {
+                Ok(world) => {
                     let horizon = planned.unwrap_or(program.module().time_scale as i64 * 10) as f64 / scale;
-                    let mut sim = with_faults(sim, &args.fault, args.seed, horizon);
+                    let mut sim = with_faults(world, &args.fault, args.seed, horizon);
                     if args.record.is_some() {
                         sim.record(RECORD_SECONDS);
                     }
@@ -332,13 +332,11 @@ fn write_output(path: &Path, bytes: &[u8]) -> Result<(), ExitCode> {
     })
 }
 
-/// The simulated host with the faults asked for, their open parts drawn from `seed`.
-fn with_faults(sim: kbvm::sim::SimHost, specs: &[FaultSpec], seed: u64, horizon: f64) -> kbvm::sim::SimHost {
-    let world = sim.world();
+/// A host over `world` with the faults asked for, their open parts drawn from `seed`.
+fn with_faults(world: kbvm::sim::World, specs: &[FaultSpec], seed: u64, horizon: f64) -> kbvm::sim::SimHost {
     let (arms, blocks) = (world.arm_names(), world.block_names());
     let mut rng = Rng::new(seed);
     let faults = specs.iter().map(|spec| spec.resolve(&arms, &blocks, horizon, &mut rng)).collect();
-    let world = sim.into_world();
     kbvm::sim::SimHost::with_faults(world, faults, seed)
 }
 

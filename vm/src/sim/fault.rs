@@ -19,8 +19,9 @@
 
 use std::fmt;
 
-/// A small deterministic random number generator (SplitMix64), so that a seed gives the same
-/// faults on every machine.
+/// SplitMix64, a small, well-mixed deterministic generator: the same seed gives the same draws
+/// on every machine. The faults' open parts come from it, and so do kbc's ladder problems and
+/// benchmark inputs.
 #[derive(Clone, Debug)]
 pub struct Rng(u64);
 
@@ -39,14 +40,28 @@ impl Rng {
         z ^ (z >> 31)
     }
 
-    /// A number in `0..n` (`n > 0`).
+    /// A uniform integer below `n` (`n > 0`), by rejection so there is no modulo bias.
     pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
+        let n = n as u64;
+        let zone = u64::MAX - u64::MAX % n;
+        loop {
+            let x = self.next_u64();
+            if x < zone {
+                return (x % n) as usize;
+            }
+        }
     }
 
     /// A number in `[lo, hi)`.
     pub fn between(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Shuffles `items` (Fisher-Yates).
+    pub fn shuffle<T>(&mut self, items: &mut [T]) {
+        for i in (1..items.len()).rev() {
+            items.swap(i, self.below(i + 1));
+        }
     }
 }
 

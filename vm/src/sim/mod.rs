@@ -248,11 +248,6 @@ impl SimHost {
         &self.frames
     }
 
-    /// The world, taken back from the host.
-    pub fn into_world(self) -> World {
-        self.world
-    }
-
     /// The world.
     pub fn world(&self) -> &World {
         &self.world
@@ -269,19 +264,9 @@ impl SimHost {
         self.offset = self.now;
     }
 
-    /// The world's time at which the current program started.
-    pub fn program_offset(&self) -> i64 {
-        self.offset
-    }
-
     /// The faults injected so far: when (the world's clock) and what happened.
     pub fn injected(&self) -> &[(i64, String)] {
         &self.injected
-    }
-
-    /// The faults still waiting for their moment.
-    pub fn pending(&self) -> &[Fault] {
-        &self.pending
     }
 
     /// Steps the world up to program time `now`.
@@ -421,14 +406,7 @@ impl SimHost {
                 report.push(format!("{arm} keeps `{name}`: no cell is free to put it down"));
                 continue;
             };
-            let steps = vec![
-                Primitive::MoveOver(x, y),
-                Primitive::Descend,
-                Primitive::Open(block),
-                Primitive::Lift,
-                Primitive::Home,
-            ];
-            report.push(match self.run_task(a, steps) {
+            report.push(match self.run_task(a, put_down(block, (x, y))) {
                 Ok(()) => format!("{arm} put `{name}` down on cell ({x}, {y})"),
                 Err(why) => format!("{arm} could not put `{name}` down on cell ({x}, {y}): {why}"),
             });
@@ -450,17 +428,8 @@ impl SimHost {
                 continue;
             };
             let arm = self.world.arms[a].name.clone();
-            let steps = vec![
-                Primitive::Reach(block),
-                Primitive::Descend,
-                Primitive::Close(block),
-                Primitive::Lift,
-                Primitive::MoveOver(x, y),
-                Primitive::Descend,
-                Primitive::Open(block),
-                Primitive::Lift,
-                Primitive::Home,
-            ];
+            let mut steps = vec![Primitive::Reach(block), Primitive::Descend, Primitive::Close(block), Primitive::Lift];
+            steps.extend(put_down(block, (x, y)));
             report.push(match self.run_task(a, steps) {
                 Ok(()) => format!("{arm} put `{name}`, found between cells, on cell ({x}, {y})"),
                 Err(why) => format!("{arm} could not move `{name}` onto cell ({x}, {y}): {why}"),
@@ -541,6 +510,11 @@ impl SimHost {
         }
         Ok((arm.expect("at least one step"), primitives))
     }
+}
+
+/// The steps that put a held `block` down on `cell` and take the arm home.
+fn put_down(block: usize, (x, y): (i64, i64)) -> Vec<Primitive> {
+    vec![Primitive::MoveOver(x, y), Primitive::Descend, Primitive::Open(block), Primitive::Lift, Primitive::Home]
 }
 
 fn not_provided(text: &str, action: &Invocation<'_>) -> String {
