@@ -290,3 +290,25 @@ pub fn timed_plan(program: &Program, run: &Run) -> String {
     }
     out
 }
+
+/// The executed timeline of a run checked on the KB of `problem` by the timed validator; an
+/// error here is a compiler bug, and a note says so.
+pub fn check_timeline(
+    frontend: &mut crate::driver::Frontend,
+    db: &mut crate::source::SourceDb,
+    problem: usize,
+    program: &Program,
+    run: &Run,
+) -> crate::diag::Diagnostics {
+    let mut diagnostics = crate::diag::Diagnostics::new();
+    let text = timed_plan(program, run);
+    let file = db.add("<executed timeline>", None, text.clone());
+    let steps = crate::validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
+    let kb_program = crate::planner::program_for(&frontend.kb, problem);
+    let verdict = crate::validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
+    diagnostics.extend(verdict.diagnostics);
+    if diagnostics.has_errors() {
+        diagnostics.push(crate::diag::Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
+    }
+    diagnostics
+}

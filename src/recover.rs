@@ -14,14 +14,13 @@
 use kbvm::Program;
 use kbvm::sim::SimHost;
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::Diagnostics;
 use crate::driver::{self, Frontend};
 use crate::execute::{self, HostEvent, Logged, Outcome, Run};
 use crate::ir::hir::{Literal, Problem, Term};
 use crate::ir::plan::Plan;
 use crate::planner::{self, Options};
 use crate::source::SourceDb;
-use crate::validate;
 
 /// The predicates the simulated world reads back; an initial fact of any other predicate is
 /// carried over into a replanned problem unchanged (the world cannot observe it).
@@ -104,8 +103,6 @@ pub struct Execution {
     pub sim: SimHost,
     /// How it ended.
     pub verdict: Verdict,
-    /// The world read back at the end, and the blocks not on a cell.
-    pub facts: (Vec<Term>, Vec<String>),
 }
 
 /// Runs `program` (planned for `problem`, with makespan `planned`) in `sim`'s world, and
@@ -137,7 +134,7 @@ pub fn execute(
         let (goal, _) = waive(frontend, problem, &sim.world().stopped_arms());
         // When the tree says the plan was carried out, its timeline must satisfy the KB.
         let timeline = match run.outcome {
-            Outcome::Success => check_timeline(frontend, db, round_problem, &program, &run),
+            Outcome::Success => execute::check_timeline(frontend, db, round_problem, &program, &run),
             _ => Diagnostics::new(),
         };
         let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
@@ -171,17 +168,17 @@ pub fn execute(
         if timeline.has_errors() {
             rounds.push(round);
             let verdict = Verdict::InvalidTimeline(timeline);
-            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict };
         }
         let Some(why) = round.detected.clone() else {
             rounds.push(round);
-            return Execution { rounds, sim, verdict: Verdict::GoalReached, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict: Verdict::GoalReached };
         };
         let recoveries = rounds.len() as u32;
         if matches!(round.run.outcome, Outcome::Budget | Outcome::Stuck) {
             rounds.push(round);
             let verdict = Verdict::GaveUp { why, considered: false };
-            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict };
         }
         if !settings.replan || recoveries >= settings.max_recoveries {
             rounds.push(round);
@@ -191,17 +188,18 @@ pub fn execute(
                 why
             };
             let verdict = Verdict::GaveUp { why, considered: true };
-            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict };
         }
         // Recover: bring the world to rest, read it back, and plan from there; unless the
         // round changed nothing (the tree succeeded without moving a block as the goal
         // needs, so a replan would run the same plan again).
         round.recovery = sim.recover();
+        let succeeded = round.run.outcome == Outcome::Success;
         rounds.push(round);
-        if run_succeeded(&rounds) && sorted_facts(sim.world()) == start_world {
+        if succeeded && sorted_facts(sim.world()) == start_world {
             let why = "the round changed nothing in the world, so a new plan would repeat it".to_string();
             let verdict = Verdict::GaveUp { why, considered: true };
-            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict };
         }
         let world = sorted_facts(sim.world());
         if recovered.contains(&world) {
@@ -209,15 +207,13 @@ pub fn execute(
                 "after the fault, recovering led back to a world it had already planned from, and the new plan \
                  failed again: {why}"
             );
-            let verdict = Verdict::Unrecoverable { why };
-            let facts = execute::world_facts(sim.world(), &mut frontend.interner);
-            return Execution { rounds, sim, verdict, facts };
+            return Execution { rounds, sim, verdict: Verdict::Unrecoverable { why } };
         }
         recovered.push(world);
         let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
         if let Some(why) = unreachable_goal(frontend, &goal, &facts, &unaccounted, &sim) {
             let verdict = Verdict::Unrecoverable { why };
-            return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+            return Execution { rounds, sim, verdict };
         }
         let new_problem = replanned_problem(frontend, problem, &facts, &sim.world().stopped_arms());
         let mut task = crate::passes::task::build(&frontend.kb, new_problem);
@@ -227,21 +223,17 @@ pub fn execute(
             Ok(plan) => plan,
             Err(failure) => {
                 let verdict = Verdict::NoPlan { problem: new_problem, failure, stats: outcome.stats };
-                return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+                return Execution { rounds, sim, verdict };
             }
         };
         match compile(frontend, db, &plan, settings.profile) {
             Ok((program, makespan)) => current = (new_problem, program, makespan),
             Err(diagnostics) => {
                 let verdict = Verdict::NotCompiled(diagnostics);
-                return Execution { rounds, sim, verdict, facts: (facts, unaccounted) };
+                return Execution { rounds, sim, verdict };
             }
         }
     }
-}
-
-fn run_succeeded(rounds: &[Round]) -> bool {
-    rounds.last().is_some_and(|r| r.run.outcome == Outcome::Success)
 }
 
 /// The world read back, as sorted text, to compare two moments.
@@ -350,25 +342,4 @@ fn compile(
             Err(diagnostics)
         }
     }
-}
-
-/// The executed timeline of a round checked on the KB by the timed validator.
-fn check_timeline(
-    frontend: &mut Frontend,
-    db: &mut SourceDb,
-    problem: usize,
-    program: &Program,
-    run: &Run,
-) -> Diagnostics {
-    let mut diagnostics = Diagnostics::new();
-    let text = execute::timed_plan(program, run);
-    let file = db.add("<executed timeline>", None, text.clone());
-    let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
-    let kb_program = planner::program_for(&frontend.kb, problem);
-    let verdict = validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
-    diagnostics.extend(verdict.diagnostics);
-    if diagnostics.has_errors() {
-        diagnostics.push(Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
-    }
-    diagnostics
 }

@@ -55,9 +55,9 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
     };
     let makespan = timed.schedule.makespan;
     let execution = recover::execute(&mut frontend, &mut db, 0, program, makespan, sim, &settings);
+    let (facts, unaccounted) = &kbc::execute::world_facts(execution.sim.world(), &mut frontend.interner);
     let interner = &frontend.interner;
     let show = |t: &Term| term_to_string(interner, t, &Default::default());
-    let (facts, unaccounted) = &execution.facts;
     let world: Vec<String> = facts.iter().map(show).collect();
     // Every block is accounted for: on a cell, held, or named in an unaccounted line.
     for block in &blocks {
@@ -80,7 +80,6 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
         Verdict::NotCompiled(d) => panic!("{what}: a replanned plan does not compile: {:?}", d.iter().next()),
         Verdict::InvalidTimeline(d) => panic!("{what}: an executed timeline breaks the KB: {:?}", d.iter().next()),
     };
-    assert!(!report.is_empty(), "{what}: a report");
     Ended { reached, rounds: execution.rounds.len(), report }
 }
 

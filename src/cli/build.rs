@@ -11,11 +11,11 @@ use kbvm::bytecode::MAGIC;
 use super::plan::{Planned, PlanningArgs, plan_and_schedule};
 use super::{MessageFormat, report};
 use crate::diag::{Diagnostic, Diagnostics, codes};
+use crate::driver;
 use crate::execute::{self, HostEvent, Logged, Outcome, TraceHost};
 use crate::recover;
 use crate::render;
 use crate::source::SourceDb;
-use crate::{driver, validate};
 use kbvm::bytecode::Instr;
 use kbvm::sim::{FaultSpec, Rng, SimConfig};
 
@@ -151,9 +151,8 @@ pub(super) fn build(args: BuildArgs, color: bool) -> ExitCode {
     };
     match &args.output {
         Some(path) => {
-            if let Err(error) = super::write_atomically(path, &bytes) {
-                eprintln!("error: cannot write `{}`: {error}", path.display());
-                return ExitCode::from(1);
+            if let Err(status) = write_output(path, &bytes) {
+                return status;
             }
         }
         None => {
@@ -418,8 +417,7 @@ fn goal_diagnostic(
     for u in unaccounted {
         diagnostic = diagnostic.with_note(format!("unaccounted: {u}"));
     }
-    let world: Vec<String> = facts.iter().map(show).collect();
-    diagnostic.with_note(format!("the world read back: {}", world.join(", ")))
+    diagnostic.with_note(world_note(interner, facts, &[]))
 }
 
 /// Runs a program once: on the trace host, or on the simulated arms without replanning (a
@@ -504,14 +502,9 @@ fn run_once(
         return ExitCode::SUCCESS;
     };
     // Planned here (on the trace host): the executed timeline must satisfy the KB.
-    let text = execute::timed_plan(&program, &result);
-    let file = db.add("<executed timeline>", None, text.clone());
-    let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
-    let kb_program = crate::planner::program_for(&frontend.kb, problem);
-    let verdict = validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
-    if verdict.diagnostics.has_errors() {
-        diagnostics.extend(verdict.diagnostics);
-        diagnostics.push(Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
+    let timeline = execute::check_timeline(&mut frontend, &mut db, problem, &program, &result);
+    if timeline.has_errors() {
+        diagnostics.extend(timeline);
         return fail(&db, &diagnostics);
     }
     let _ = writeln!(std::io::stdout().lock(), "% the executed timeline is valid for the KB");
@@ -601,7 +594,7 @@ fn run_with_recovery(
             return status;
         }
     }
-    let (facts, unaccounted) = &execution.facts;
+    let (facts, unaccounted) = &execute::world_facts(execution.sim.world(), &mut frontend.interner);
     let (goal, waived) = recover::waive(&frontend, problem, &execution.sim.world().stopped_arms());
     let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(&frontend.interner, t, &Default::default());
     let waived: Vec<String> = waived.iter().map(|t| format!("`{}`", show(t))).collect();
