@@ -238,19 +238,12 @@ pub fn run(program: &Program, host: &mut dyn VirtualHost, max_time: i64, max_tic
     Run { outcome, end: now, ticks, events }
 }
 
-/// A time in program units as KB time units with three decimals: `1500` is `1.500` at the
-/// scale kbc writes (1000 units per KB time unit).
-pub fn format_time(program: &Program, t: i64) -> String {
-    let scale = program.module().time_scale as i64;
-    format!("{}.{:03}", t / scale, (t % scale) * 1000 / scale)
-}
-
 /// The executed timeline as a timed plan in the PDDL 2.1 format (`kbc validate` reads it):
 /// each action at its start's recorded time, with the time to its end's.
 pub fn timed_plan(program: &Program, run: &Run) -> String {
     let m = program.module();
     let mut lines: Vec<(i64, usize, String)> = Vec::new();
-    let time = |t: i64| format_time(program, t);
+    let time = |t: i64| program.time_text(t);
     let call = |import: &kbvm::bytecode::ImportId, args: &[kbvm::bytecode::Value]| {
         let mut text = format!("({}", program.import_name(*import));
         for &a in args {

@@ -94,6 +94,13 @@ pub(super) struct RunArgs {
     gantt_svg: Option<PathBuf>,
 }
 
+impl RunArgs {
+    /// `--max-time` in the program's time units.
+    fn max_time_units(&self, program: &Program) -> i64 {
+        (self.max_time * program.module().time_scale as f64).min(i64::MAX as f64 / 2.0) as i64
+    }
+}
+
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum HostKind {
     /// Simulated arms in a rigid-body world: actions run as their arm-level steps.
@@ -250,7 +257,6 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     report(&db, &diagnostics, format, color);
     let mut diagnostics = Diagnostics::new();
     let scale = program.module().time_scale as f64;
-    let max_time = (args.max_time * scale).min(i64::MAX as f64 / 2.0) as i64;
     let sim = match args.host {
         HostKind::Trace => None,
         HostKind::Sim => {
@@ -285,7 +291,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
                 eprintln!("error: `--gantt-svg` needs KB files: a bytecode file carries no plan to compare with");
                 return ExitCode::from(2);
             }
-            run_once(&args, color, db, frontend, problem, program, planned, sim, max_time)
+            run_once(&args, color, db, frontend, problem, program, planned, sim)
         }
     }
 }
@@ -343,7 +349,7 @@ fn with_faults(world: kbvm::sim::World, specs: &[FaultSpec], seed: u64, horizon:
 type Entry = (i64, String);
 
 fn timeline_entries(program: &Program, offset: i64, log: &[(i64, kbvm::bytecode::EventId, HostEvent)]) -> Vec<Entry> {
-    let time = |t: i64| execute::format_time(program, t);
+    let time = |t: i64| program.time_text(t);
     log.iter()
         .map(|(t, id, event)| {
             let text = program.action_text(*id);
@@ -363,7 +369,7 @@ fn fault_entries(program: &Program, injected: &[(i64, String)], from: i64, to: O
     injected
         .iter()
         .filter(|(t, _)| *t >= from && to.is_none_or(|to| *t < to))
-        .map(|(t, what)| (*t, format!("{:>9}  FAULT   {what}\n", execute::format_time(program, *t))))
+        .map(|(t, what)| (*t, format!("{:>9}  FAULT   {what}\n", program.time_text(*t))))
         .collect()
 }
 
@@ -432,8 +438,8 @@ fn run_once(
     program: Program,
     planned: Option<i64>,
     sim: Option<kbvm::sim::SimHost>,
-    max_time: i64,
 ) -> ExitCode {
+    let max_time = args.max_time_units(&program);
     let format = args.planning.message_format;
     let mut diagnostics = Diagnostics::new();
     let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
@@ -452,7 +458,7 @@ fn run_once(
             (result, host.log, Some(host.host))
         }
     };
-    let time = |t: i64| execute::format_time(&program, t);
+    let time = |t: i64| program.time_text(t);
     let mut entries = timeline_entries(&program, 0, &log);
     if let Some(sim) = &world {
         entries.extend(fault_entries(&program, sim.injected(), 0, None));
@@ -526,19 +532,18 @@ fn run_with_recovery(
     chart: Option<(&crate::ir::pop::Pop, &crate::ir::schedule::Schedule)>,
 ) -> ExitCode {
     let format = args.planning.message_format;
-    let scale = program.module().time_scale as f64;
     let options = || super::plan::search_options(&args.planning);
     let settings = recover::Settings {
         replan: !args.no_replan,
         max_recoveries: args.max_recoveries,
         options: &options,
         profile: ("simulated-arms", kbvm::sim::PRIMITIVES),
-        max_time: (args.max_time * scale).min(i64::MAX as f64 / 2.0) as i64,
+        max_time: args.max_time_units(&program),
         max_ticks: args.max_ticks,
     };
     let execution = recover::execute(&mut frontend, &mut db, problem, program, planned, sim, &settings);
     let first = &execution.rounds[0].program;
-    let time = |t: i64| execute::format_time(first, t);
+    let time = |t: i64| first.time_text(t);
     let injected = execution.sim.injected();
     let mut out = String::from("% time      event   action\n");
     for (i, round) in execution.rounds.iter().enumerate() {
@@ -616,7 +621,7 @@ fn run_with_recovery(
         }
         recover::Verdict::GaveUp { why, considered } => {
             let program = &last.program;
-            let end_round = execute::format_time(program, last.run.end);
+            let end_round = program.time_text(last.run.end);
             match outcome_diagnostic(program, &last.run.outcome, &end_round, args) {
                 Some(d) => diagnostics.push(d),
                 None => {
@@ -722,8 +727,8 @@ fn run_chart(
     let first = &execution.rounds[0].program;
     let title = format!(
         "{name}: planned makespan {}, executed {} ({} round{})",
-        execute::format_time(first, schedule.makespan),
-        execute::format_time(first, end),
+        first.time_text(schedule.makespan),
+        first.time_text(end),
         execution.rounds.len(),
         if execution.rounds.len() == 1 { "" } else { "s" }
     );

@@ -151,6 +151,19 @@ impl Program {
             .map_or(&[], |r| &self.module.refinements[r as usize].steps)
     }
 
+    /// A time in program units as KB time units: `2001` at 1000 units per KB unit (the scale
+    /// kbc writes) is `2.001`; at one unit per KB unit, `2001`.
+    pub fn time_text(&self, t: i64) -> String {
+        let scale = i64::from(self.module().time_scale.max(1));
+        if scale == 1 {
+            return t.to_string();
+        }
+        let sign = if t < 0 { "-" } else { "" };
+        let digits = scale.ilog10() as usize;
+        let fraction = (t.abs() % scale) * 10i64.pow(digits as u32) / scale;
+        format!("{sign}{}.{fraction:0digits$}", t.abs() / scale)
+    }
+
     /// A step as text: `move_over(a1, 3, 3)`.
     pub fn call_text(&self, call: &Call) -> String {
         self.module.call_text(call.import, &call.args)

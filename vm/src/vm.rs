@@ -171,31 +171,19 @@ impl Failure {
             Reason::Refused(m) => format!("the host refused to start it: {m}"),
             Reason::HostFailed(m) => format!("the host reports it failed: {m}"),
             Reason::Overran { max } => {
-                format!("it ran longer than its greatest duration ({} time units)", scaled(program, *max))
+                format!("it ran longer than its greatest duration ({} time units)", program.time_text(*max))
             }
             Reason::Budget => "the tick ran out of its node budget".to_string(),
             Reason::Halted => "the tree was halted".to_string(),
         };
         match program.location(self.node) {
             Some(at) => {
-                let time = scaled(program, self.time);
+                let time = program.time_text(self.time);
                 format!("{} failed at program time {time}: {what} ({}:{}:{})", at.label, at.file, at.line, at.column)
             }
-            None => format!("node @{} failed at program time {}: {what}", self.node.0, scaled(program, self.time)),
+            None => format!("node @{} failed at program time {}: {what}", self.node.0, program.time_text(self.time)),
         }
     }
-}
-
-/// A time in program units as KB time units: `2001` at 1000 units per KB unit is `2.001`.
-fn scaled(program: &Program, t: i64) -> String {
-    let scale = i64::from(program.module().time_scale.max(1));
-    if scale == 1 {
-        return t.to_string();
-    }
-    let sign = if t < 0 { "-" } else { "" };
-    let digits = scale.ilog10() as usize;
-    let fraction = (t.abs() % scale) * 10i64.pow(digits as u32) / scale;
-    format!("{sign}{}.{fraction:0digits$}", t.abs() / scale)
 }
 
 const IDLE: u8 = 0;
