@@ -9,7 +9,8 @@
 //! ```
 //!
 //! Every stage reports problems as [`diag::Diagnostic`] values and keeps going; the CLI
-//! (`src/cli`) is the only place that reads files or prints.
+//! (`src/cli`) and the language server (`src/lsp`) are the only places that read files or
+//! print.
 
 pub mod builtins;
 pub mod cli;
@@ -21,6 +22,7 @@ pub mod execute;
 pub mod intern;
 pub mod ir;
 pub mod ladder;
+pub mod lsp;
 pub mod passes;
 pub mod planner;
 pub mod recover;

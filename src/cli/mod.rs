@@ -85,6 +85,18 @@ enum Command {
         /// The code, such as E0102 or W0001.
         code: String,
     },
+    /// Run the language server for editors, on stdin and stdout.
+    ///
+    /// Speaks the Language Server Protocol: diagnostics as you type (the files of a folder are
+    /// checked together, as `kbc check` would check them), hover, go to definition, find
+    /// references, document and workspace symbols, completion and quick fixes. README.md shows
+    /// how to hook it into Neovim and VS Code.
+    Lsp {
+        /// Accepted for clients that pass it (VS Code's language client does); stdio is the
+        /// only transport.
+        #[arg(long)]
+        stdio: bool,
+    },
 }
 
 #[derive(clap::Args)]
@@ -140,6 +152,7 @@ pub fn main() -> ExitCode {
         Command::Run(args) => build::run(args, color),
         Command::Disasm(args) => build::disasm(args, color),
         Command::Explain { code } => explain(&code),
+        Command::Lsp { stdio: _ } => crate::lsp::run_stdio(),
     }
 }
 

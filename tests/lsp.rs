@@ -1,0 +1,432 @@
+//! The language server, driven through the protocol in-process (lsp-server's memory
+//! connection): a scripted editing session, malformed requests, folders checked together.
+
+#[path = "support/lsp_client.rs"]
+mod client;
+
+use std::path::{Path, PathBuf};
+
+use client::Client;
+use kbc::lsp::position::apply_edit;
+use lsp_types::Range;
+use serde_json::{Value, json};
+
+/// A KB with one mistake: `ontabel` for `ontable` in pick_start's Valid list.
+const KB: &str = "\
+% A one-arm world for the protocol test.
+resources(agent(_)).
+
+action(pick_start(A, B),
+    [agent(A), ontabel(B), clear(B)], [], [], [],
+    [del(agent(A)), del(ontable(B)), add(holding(A, B))]).
+action(pick_end(A, B),
+    [holding(A, B)], [], [], [],
+    [del(holding(A, B)), add(agent(A)), add(held(B))]).
+
+duration(pick(_, _), 1, 2).
+
+test1 :- go([agent(a1), ontable(b1), clear(b1)], [held(b1)]).
+";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kbc-lsp-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    std::fs::canonicalize(&dir).expect("it exists")
+}
+
+fn uri(path: &Path) -> String {
+    lsp_types::Url::from_file_path(path).expect("absolute").to_string()
+}
+
+/// The protocol position of the first occurrence of `needle` in `text`, plus `extra` columns.
+fn position_of(text: &str, needle: &str, extra: u32) -> Value {
+    let at = text.find(needle).unwrap_or_else(|| panic!("`{needle}` in the text"));
+    let line = text[..at].matches('\n').count() as u32;
+    let column = (at - text[..at].rfind('\n').map_or(0, |i| i + 1)) as u32 + extra;
+    json!({ "line": line, "character": column })
+}
+
+fn codes(diagnostics: &[Value]) -> Vec<String> {
+    diagnostics.iter().map(|d| d["code"].as_str().unwrap_or("-").to_string()).collect()
+}
+
+fn lines_of(location: &Value) -> u64 {
+    location["range"]["start"]["line"].as_u64().expect("a line")
+}
+
+#[test]
+fn a_scripted_editing_session() {
+    let dir = scratch("session");
+    let path = dir.join("kb.pl");
+    std::fs::write(&path, KB).unwrap();
+    let uri = uri(&path);
+    let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
+
+    // Open a file with an error: its diagnostic arrives, with the code and the fix's hint.
+    client.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": KB } }),
+    );
+    let published = client.published(&uri);
+    assert_eq!(published["version"], 1);
+    let diagnostics = published["diagnostics"].as_array().unwrap().clone();
+    assert_eq!(codes(&diagnostics), ["E0210"], "{diagnostics:#?}");
+    let unknown = &diagnostics[0];
+    assert_eq!(unknown["range"]["start"], position_of(KB, "ontabel", 0));
+    assert_eq!(unknown["range"]["end"], position_of(KB, "ontabel", 7));
+    assert_eq!(unknown["severity"], 1);
+    assert_eq!(unknown["source"], "kbc");
+    let message = unknown["message"].as_str().unwrap();
+    assert!(message.starts_with("unknown predicate `ontabel/1`"), "{message}");
+    assert!(message.contains("help: did you mean `ontable/1`?"), "{message}");
+
+    // An incremental edit that adds a second mistake: the updated set holds both.
+    let mut text = KB.to_string();
+    let end_of_test = position_of(&text, "[held(b1)])", 9);
+    let edit = Range {
+        start: serde_json::from_value(end_of_test.clone()).unwrap(),
+        end: serde_json::from_value(end_of_test).unwrap(),
+    };
+    text = apply_edit(&text, edit, ", hled(b2)");
+    client.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": { "uri": uri, "version": 2 },
+            "contentChanges": [{ "range": edit, "text": ", hled(b2)" }],
+        }),
+    );
+    let published = client.published(&uri);
+    assert_eq!(published["version"], 2);
+    let diagnostics = published["diagnostics"].as_array().unwrap().clone();
+    assert_eq!(diagnostics.len(), 2, "{diagnostics:#?}");
+    assert!(diagnostics[1]["message"].as_str().unwrap().contains("hled/1"), "{diagnostics:#?}");
+    // Undo it with a second incremental edit.
+    let start = position_of(&text, ", hled(b2)", 0);
+    let end = position_of(&text, ", hled(b2)", 10);
+    let undo: Range = serde_json::from_value(json!({ "start": start, "end": end })).unwrap();
+    text = apply_edit(&text, undo, "");
+    assert_eq!(text, KB);
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 3 }, "contentChanges": [{ "range": undo, "text": "" }] }),
+    );
+    assert_eq!(codes(&client.diagnostics(&uri)), ["E0210"]);
+
+    // Hover on a state predicate: what adds and deletes it.
+    let hover = client
+        .request(
+            "textDocument/hover",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "holding(A, B)), add", 2) }),
+        )
+        .unwrap();
+    let value = hover["contents"]["value"].as_str().unwrap();
+    assert!(value.contains("holding/2"), "{value}");
+    assert!(value.contains("added by `pick_start`"), "{value}");
+    assert!(value.contains("deleted by `pick_end`"), "{value}");
+    assert_eq!(hover["range"]["start"], position_of(KB, "holding(A, B)), add", 0));
+    // Hover on an action name: its slots and its duration.
+    let hover = client
+        .request(
+            "textDocument/hover",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "pick_end", 1) }),
+        )
+        .unwrap();
+    let value = hover["contents"]["value"].as_str().unwrap();
+    assert!(value.contains("the end of durative action `pick`"), "{value}");
+    assert!(value.contains("Effects: `[del(holding(A, B)), add(agent(A)), add(held(B))]`"), "{value}");
+    assert!(value.contains("duration: `duration(pick(_, _), 1, 2).`"), "{value}");
+    // Hover on the diagnostic: the code's explanation.
+    let hover = client
+        .request(
+            "textDocument/hover",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "ontabel", 3) }),
+        )
+        .unwrap();
+    assert!(hover["contents"]["value"].as_str().unwrap().contains("# E0210"), "{hover:#}");
+
+    // Go to definition: the goal's `held(b1)` is defined where an action adds it.
+    let definition = client
+        .request(
+            "textDocument/definition",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "[held(b1)]", 2) }),
+        )
+        .unwrap();
+    let locations = definition.as_array().expect("a list of locations");
+    assert_eq!(locations.len(), 1, "{definition:#}");
+    assert_eq!(locations[0]["uri"], uri.as_str());
+    assert_eq!(locations[0]["range"]["start"], position_of(KB, "held(B))])", 0));
+    // From `pick` in the duration fact to both schemas of the durative action.
+    let definition = client
+        .request(
+            "textDocument/definition",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "pick(_, _)", 1) }),
+        )
+        .unwrap();
+    let lines: Vec<u64> = definition.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [3, 6], "{definition:#}");
+    // References of `agent/1`: the resource, two conditions and effects, the initial state.
+    let references = client
+        .request(
+            "textDocument/references",
+            json!({
+                "textDocument": { "uri": uri },
+                "position": position_of(KB, "agent(_)", 0),
+                "context": { "includeDeclaration": true },
+            }),
+        )
+        .unwrap();
+    let lines: Vec<u64> = references.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [1, 4, 5, 8, 12], "{references:#}");
+
+    // Completion: the KB's names that start with what is typed, with their arities.
+    let completion = client
+        .request(
+            "textDocument/completion",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "holding(A, B)), add", 3) }),
+        )
+        .unwrap();
+    let labels: Vec<String> = completion
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|item| format!("{}{}", item["label"].as_str().unwrap(), item["labelDetails"]["detail"].as_str().unwrap()))
+        .collect();
+    assert!(labels.contains(&"holding/2".to_string()), "{labels:?}");
+    assert!(labels.iter().all(|l| l.starts_with("hol")), "{labels:?}");
+
+    // Outline and workspace symbols.
+    let symbols = client.request("textDocument/documentSymbol", json!({ "textDocument": { "uri": uri } })).unwrap();
+    let names: Vec<&str> = symbols.as_array().unwrap().iter().map(|s| s["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["pick_start/2", "pick_end/2", "duration/3", "test1"], "{symbols:#}");
+    let found = client.request("workspace/symbol", json!({ "query": "pcks" })).unwrap();
+    let names: Vec<&str> = found.as_array().unwrap().iter().map(|s| s["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["pick_start"], "{found:#}");
+
+    // The quick fix for the misspelling, applied as the editor would, then re-checked.
+    let actions = client
+        .request(
+            "textDocument/codeAction",
+            json!({
+                "textDocument": { "uri": uri },
+                "range": { "start": position_of(KB, "ontabel", 2), "end": position_of(KB, "ontabel", 2) },
+                "context": { "diagnostics": [] },
+            }),
+        )
+        .unwrap();
+    let actions = actions.as_array().unwrap();
+    assert_eq!(actions.len(), 1, "{actions:#?}");
+    assert_eq!(actions[0]["title"], "replace with `ontable`");
+    assert_eq!(actions[0]["kind"], "quickfix");
+    let edits = actions[0]["edit"]["changes"][uri.as_str()].as_array().unwrap().clone();
+    let mut changes = Vec::new();
+    for edit in edits.iter().rev() {
+        let range: Range = serde_json::from_value(edit["range"].clone()).unwrap();
+        let new_text = edit["newText"].as_str().unwrap();
+        text = apply_edit(&text, range, new_text);
+        changes.push(json!({ "range": range, "text": new_text }));
+    }
+    assert!(text.contains("[agent(A), ontable(B), clear(B)]"), "{text}");
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 4 }, "contentChanges": changes }),
+    );
+    assert_eq!(client.diagnostics(&uri), Vec::<Value>::new(), "the fix resolves the diagnostic");
+    // After the fix, `ontable/1` is a state predicate the hover describes.
+    let hover = client
+        .request(
+            "textDocument/hover",
+            json!({ "textDocument": { "uri": uri }, "position": position_of(&text, "ontable(B), clear", 1) }),
+        )
+        .unwrap();
+    assert!(hover["contents"]["value"].as_str().unwrap().contains("in the initial state of `test1`"), "{hover:#}");
+
+    assert!(client.shutdown(), "a clean shutdown and exit");
+}
+
+#[test]
+fn malformed_requests_get_errors_and_the_server_carries_on() {
+    let dir = scratch("malformed");
+    let path = dir.join("kb.pl");
+    let uri = uri(&path);
+    let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
+    // Parameters of the wrong shape: InvalidParams (-32602).
+    let error = client.request("textDocument/hover", json!({ "position": "here" })).unwrap_err();
+    assert_eq!(error.code, -32602, "{error:?}");
+    // An unknown method: MethodNotFound (-32601).
+    let error = client.request("textDocument/frobnicate", json!({})).unwrap_err();
+    assert_eq!(error.code, -32601, "{error:?}");
+    // Positions far outside the file and requests on files never opened answer nothing.
+    client.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": "on(a, b" } }),
+    );
+    let diagnostics = client.diagnostics(&uri);
+    assert!(!diagnostics.is_empty(), "a syntax error is reported");
+    let hover = client
+        .request(
+            "textDocument/hover",
+            json!({ "textDocument": { "uri": uri }, "position": { "line": 999, "character": 999 } }),
+        )
+        .unwrap();
+    // The position is clamped to the end of the text, where the missing `.` is reported.
+    assert!(hover["contents"]["value"].as_str().unwrap().starts_with("# E0102"), "{hover:#}");
+    let elsewhere = uri.replace("kb.pl", "never_opened.pl");
+    let definition = client
+        .request(
+            "textDocument/definition",
+            json!({ "textDocument": { "uri": elsewhere }, "position": { "line": 0, "character": 0 } }),
+        )
+        .unwrap();
+    assert_eq!(definition, Value::Null);
+    // A change to a document that is not open is ignored, not fatal.
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": elsewhere, "version": 2 }, "contentChanges": [{ "text": "x." }] }),
+    );
+    // Text that is not a KB at all, with characters beyond the BMP: diagnostics, no crash.
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 2 }, "contentChanges": [{ "text": "🤖 :- ((( [ '\n" }] }),
+    );
+    let diagnostics = client.diagnostics(&uri);
+    assert!(!diagnostics.is_empty());
+    for diagnostic in &diagnostics {
+        assert!(diagnostic["range"]["start"]["line"].as_u64().unwrap() <= 1, "{diagnostic}");
+    }
+    assert!(client.shutdown());
+}
+
+#[test]
+fn the_files_of_a_folder_are_checked_together() {
+    let dir = scratch("folder");
+    // A domain and a goal file that uses it, and a part included from a subfolder.
+    std::fs::create_dir_all(dir.join("parts")).unwrap();
+    std::fs::write(
+        dir.join("domain.pl"),
+        ":- include('parts/table.pl').\n".to_string()
+            + &KB
+                .replace("ontabel", "ontable")
+                .replace("test1 :- go([agent(a1), ontable(b1), clear(b1)], [held(b1)]).\n", ""),
+    )
+    .unwrap();
+    std::fs::write(dir.join("parts/table.pl"), "spot(1).\nspot(2).\n").unwrap();
+    let goals = "test2 :- go([agent(a1), ontable(b2), clear(b2)], [held(b2)]).\n";
+    std::fs::write(dir.join("goals.pl"), goals).unwrap();
+    let goals_uri = uri(&dir.join("goals.pl"));
+    let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
+    client.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": { "uri": goals_uri, "languageId": "prolog", "version": 1, "text": goals } }),
+    );
+    // Checked with domain.pl, so `held/1` is known: no diagnostics.
+    assert_eq!(client.diagnostics(&goals_uri), Vec::<Value>::new());
+    // Misspell a predicate of the goal: the unit is re-checked and domain.pl's names suggested.
+    let broken = goals.replace("[held(b2)]", "[hold(b2)]");
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": goals_uri, "version": 2 }, "contentChanges": [{ "text": broken }] }),
+    );
+    let diagnostics = client.diagnostics(&goals_uri);
+    assert_eq!(codes(&diagnostics), ["E0210"], "{diagnostics:#?}");
+    // Go to definition from the goal file into domain.pl.
+    let definition = client
+        .request(
+            "textDocument/definition",
+            json!({ "textDocument": { "uri": goals_uri }, "position": position_of(&broken, "agent(a1)", 1) }),
+        )
+        .unwrap();
+    // `agent/1` is defined where it becomes true: an action's effect and the initial state.
+    let targets: Vec<&str> = definition.as_array().unwrap().iter().map(|l| l["uri"].as_str().unwrap()).collect();
+    assert_eq!(targets.len(), 2, "{definition:#}");
+    assert!(targets[0].ends_with("/domain.pl") && targets[1].ends_with("/goals.pl"), "{definition:#}");
+    // The included part, opened, is checked where it is included: its predicate is known
+    // through domain.pl, and a mistake in it is reported on it.
+    let part_uri = uri(&dir.join("parts/table.pl"));
+    // Every file the unit read had its (empty) diagnostics published; skip to the new ones.
+    assert!(client.backlog.iter().any(|n| n.params["uri"] == part_uri.as_str()));
+    client.backlog.clear();
+    client.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": { "uri": part_uri, "languageId": "prolog", "version": 1, "text": "spot(1).\nspot(2)\n" } }),
+    );
+    let diagnostics = client.diagnostics(&part_uri);
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:#?}");
+    assert_eq!(codes(&diagnostics), ["E0102"], "{diagnostics:#?}");
+    assert!(client.shutdown());
+}
+
+/// The real binary over stdio: it answers, and exits promptly however the client leaves.
+mod stdio {
+    use std::io::{Read, Write};
+    use std::process::{Child, Command, Stdio};
+    use std::time::{Duration, Instant};
+
+    fn spawn() -> Child {
+        Command::new(env!("CARGO_BIN_EXE_kbc"))
+            .args(["lsp", "--stdio"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("kbc runs")
+    }
+
+    fn frame(payload: &str) -> Vec<u8> {
+        format!("Content-Length: {}\r\n\r\n{payload}", payload.len()).into_bytes()
+    }
+
+    fn wait(child: &mut Child) -> i32 {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        loop {
+            if let Some(status) = child.try_wait().expect("waitable") {
+                return status.code().expect("exited, not killed");
+            }
+            if Instant::now() > deadline {
+                let _ = child.kill();
+                panic!("`kbc lsp` did not exit");
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    const INITIALIZE: &str = r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#;
+
+    #[test]
+    fn shutdown_then_exit_ends_with_status_0_even_with_stdin_left_open() {
+        let mut child = spawn();
+        let mut stdin = child.stdin.take().unwrap();
+        for payload in [
+            INITIALIZE,
+            r#"{"jsonrpc":"2.0","method":"initialized","params":{}}"#,
+            "{ this is not json",
+            r#"{"jsonrpc":"2.0","id":2,"method":"shutdown"}"#,
+            r#"{"jsonrpc":"2.0","method":"exit"}"#,
+        ] {
+            stdin.write_all(&frame(payload)).unwrap();
+        }
+        stdin.flush().unwrap();
+        // stdin stays open (held here) while the server is expected to exit.
+        assert_eq!(wait(&mut child), 0);
+        let mut out = String::new();
+        child.stdout.take().unwrap().read_to_string(&mut out).unwrap();
+        assert!(out.contains(r#""id":1,"result":{"capabilities""#), "{out}");
+        assert!(out.contains(r#""id":2,"result":null"#), "{out}");
+        drop(stdin);
+    }
+
+    #[test]
+    fn a_client_that_goes_away_ends_the_server_with_status_1() {
+        let mut child = spawn();
+        let mut stdin = child.stdin.take().unwrap();
+        stdin.write_all(&frame(INITIALIZE)).unwrap();
+        drop(stdin);
+        assert_eq!(wait(&mut child), 1);
+        let mut child = spawn();
+        let mut stdin = child.stdin.take().unwrap();
+        stdin.write_all(&frame(INITIALIZE)).unwrap();
+        stdin.write_all(&frame(r#"{"jsonrpc":"2.0","method":"exit"}"#)).unwrap();
+        assert_eq!(wait(&mut child), 1, "exit without shutdown");
+        drop(stdin);
+    }
+}
