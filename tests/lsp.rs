@@ -430,3 +430,74 @@ mod stdio {
         drop(stdin);
     }
 }
+
+/// Each quick fix the issue names, applied as an editor applies a workspace edit: the
+/// diagnostic it fixes is gone from the next set.
+#[test]
+fn quick_fixes_apply_and_the_file_is_rechecked() {
+    let clean = KB.replace("ontabel", "ontable");
+    let without_end = {
+        let start = clean.find("action(pick_end").unwrap();
+        let end = clean.find("duration(").unwrap();
+        format!("{}{}", &clean[..start], &clean[end..])
+    };
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        ("did-you-mean", KB.to_string(), "E0210", "replace with `ontable`"),
+        ("operator", format!("{clean}differ(X, Y) :- X != Y.\n"), "E0107", "replace `!=` with `\\=`"),
+        ("period", clean.replace("1, 2).", "1, 2)"), "E0102", "add `.`"),
+        ("comma", clean.replace("ontable(B), clear(B)]", "ontable(B) clear(B)]"), "E0109", "add `,`"),
+        ("end", without_end, "E0204", "declare `pick_end(A, B)`"),
+    ];
+    for (name, text, code, title) in cases {
+        let dir = scratch(&format!("fix-{name}"));
+        let uri = uri(&dir.join("kb.pl"));
+        let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
+        client.notify(
+            "textDocument/didOpen",
+            json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
+        );
+        let diagnostics = client.diagnostics(&uri);
+        let diagnostic = diagnostics
+            .iter()
+            .find(|d| d["code"] == code)
+            .unwrap_or_else(|| panic!("{name}: no {code} in {diagnostics:#?}"));
+        let actions = client
+            .request(
+                "textDocument/codeAction",
+                json!({
+                    "textDocument": { "uri": uri },
+                    "range": diagnostic["range"],
+                    "context": { "diagnostics": [diagnostic] },
+                }),
+            )
+            .unwrap();
+        let action = actions
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|a| a["title"] == title)
+            .unwrap_or_else(|| panic!("{name}: no action `{title}` in {actions:#}"));
+        // Apply the edits last first, so earlier ranges stay valid.
+        let mut edits = action["edit"]["changes"][uri.as_str()].as_array().unwrap().clone();
+        edits.sort_by_key(|e| (e["range"]["start"]["line"].as_u64(), e["range"]["start"]["character"].as_u64()));
+        let mut fixed = text.clone();
+        for edit in edits.iter().rev() {
+            let range: Range = serde_json::from_value(edit["range"].clone()).unwrap();
+            fixed = apply_edit(&fixed, range, edit["newText"].as_str().unwrap());
+        }
+        client.notify(
+            "textDocument/didChange",
+            json!({ "textDocument": { "uri": uri, "version": 2 }, "contentChanges": [{ "text": fixed }] }),
+        );
+        let after = client.diagnostics(&uri);
+        assert!(
+            after.iter().all(|d| d["code"] != code),
+            "{name}: {code} is still there after the fix:\n{fixed}\n{after:#?}"
+        );
+        if name != "end" {
+            // The other fixes restore the clean KB exactly.
+            assert_eq!(after, Vec::<Value>::new(), "{name}:\n{fixed}");
+        }
+        assert!(client.shutdown());
+    }
+}

@@ -90,12 +90,18 @@ impl Workspace {
         self.documents.get(uri)
     }
 
-    /// Opens a document; returns the units to check.
+    /// Opens a document; returns the units to check (with the folders above it checked for
+    /// the first time, whose diagnostics are not published yet).
     pub fn open(&mut self, uri: Url, text: String, version: i32) -> Vec<UnitId> {
         let path = uri.to_file_path().ok().map(|p| std::fs::canonicalize(&p).unwrap_or(p));
         self.documents.insert(uri.clone(), Document { text, version, path });
-        self.discover_owners(&uri);
-        self.units_reading(&uri)
+        let mut units = self.discover_owners(&uri);
+        for unit in self.units_reading(&uri) {
+            if !units.contains(&unit) {
+                units.push(unit);
+            }
+        }
+        units
     }
 
     /// Applies a client's changes in order; returns the units to check.
@@ -147,25 +153,31 @@ impl Workspace {
     }
 
     /// Checks the folders above a newly opened file, up to the workspace root, once each, so a
-    /// file included from a parent folder is checked where it is included.
-    fn discover_owners(&mut self, uri: &Url) {
+    /// file included from a parent folder is checked where it is included. Returns the folders
+    /// checked for the first time that have files.
+    fn discover_owners(&mut self, uri: &Url) -> Vec<UnitId> {
+        let mut discovered = Vec::new();
         let (Some(root), Grouping::Folder) = (self.root.clone(), self.grouping) else {
-            return;
+            return discovered;
         };
         let Some(path) = self.documents.get(uri).and_then(|d| d.path.clone()) else {
-            return;
+            return discovered;
         };
         let mut folder = path.parent().and_then(Path::parent);
         while let Some(dir) = folder.filter(|d| d.starts_with(&root)) {
             let id = UnitId::Folder(dir.to_path_buf());
             if !self.units.contains_key(&id) {
                 self.check(std::slice::from_ref(&id));
+                if self.units.get(&id).is_some_and(|u| u.analysis.is_some()) {
+                    discovered.push(id.clone());
+                }
             }
             if self.units.get(&id).is_some_and(|u| u.included.contains(&path)) {
                 break;
             }
             folder = dir.parent();
         }
+        discovered
     }
 
     /// Re-checks `ids`; returns the diagnostics to publish.
