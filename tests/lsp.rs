@@ -501,3 +501,76 @@ fn quick_fixes_apply_and_the_file_is_rechecked() {
         assert!(client.shutdown());
     }
 }
+
+/// Mappings: from a step to its arm-level action, from the mapped start to its schema, and an
+/// action's references include the mapping; completion offers std's names too.
+#[test]
+fn mappings_navigate_both_ways() {
+    let dir = scratch("mapping");
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/05_arm_refinement/kb.pl")).unwrap();
+    let uri = uri(&dir.join("kb.pl"));
+    let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
+    client.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
+    );
+    assert_eq!(client.diagnostics(&uri), Vec::<Value>::new());
+    let at = |needle: &str, extra: u32| json!({ "textDocument": { "uri": uri }, "position": position_of(&text, needle, extra) });
+    let line = |needle: &str| position_of(&text, needle, 0)["line"].as_u64().unwrap();
+
+    let step = client.request("textDocument/definition", at("close_gripper(A)]", 2)).unwrap();
+    let lines: Vec<u64> = step.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [line("ll_action(close_gripper")], "{step:#}");
+    let mapped = client.request("textDocument/definition", at("pick_start(A, _)", 2)).unwrap();
+    let lines: Vec<u64> = mapped.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [line("action(pick_start")], "{mapped:#}");
+
+    let mut params = at("action(pick_start", 8);
+    params["context"] = json!({ "includeDeclaration": false });
+    let references = client.request("textDocument/references", params).unwrap();
+    let lines: Vec<u64> = references.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [line("mapping(pick_start"), line("duration(pick")], "{references:#}");
+    // `pick` in the duration fact is a reference of both schemas of the durative action.
+    let mut params = at("action(pick_end", 8);
+    params["context"] = json!({ "includeDeclaration": true });
+    let references = client.request("textDocument/references", params).unwrap();
+    let lines: Vec<u64> = references.as_array().unwrap().iter().map(lines_of).collect();
+    assert_eq!(lines, [line("action(pick_end"), line("duration(pick")], "{references:#}");
+
+    let hover = client.request("textDocument/hover", at("action(pick_start", 8)).unwrap();
+    let value = hover["contents"]["value"].as_str().unwrap();
+    assert!(
+        value.contains("refined by `mapping(pick_start(A, _), [move_to_feeder(A), close_gripper(A)]).`"),
+        "{value}"
+    );
+
+    // Completion at the start of a new line: std's `gripped/2` is offered though the KB has
+    // no such name, and built-ins are.
+    let labels = |completion: Value| -> Vec<String> {
+        completion.as_array().unwrap().iter().map(|i| i["label"].as_str().unwrap().to_string()).collect()
+    };
+    let edited = format!("{text}gri");
+    client.notify(
+        "textDocument/didChange",
+        json!({ "textDocument": { "uri": uri, "version": 2 }, "contentChanges": [{ "text": edited }] }),
+    );
+    let end = json!({ "line": edited.lines().count() - 1, "character": 3 });
+    let completion =
+        client.request("textDocument/completion", json!({ "textDocument": { "uri": uri }, "position": end })).unwrap();
+    assert!(labels(completion).contains(&"gripped".to_string()));
+    let completion = client
+        .request("textDocument/completion", json!({ "textDocument": { "uri": uri }, "position": { "line": edited.lines().count() - 1, "character": 0 } }))
+        .unwrap();
+    let all = labels(completion);
+    assert!(all.contains(&"member".to_string()) && all.contains(&"pick_start".to_string()), "{all:?}");
+    // Nothing is offered inside a comment.
+    let completion = client
+        .request(
+            "textDocument/completion",
+            json!({ "textDocument": { "uri": uri }, "position": { "line": 0, "character": 10 } }),
+        )
+        .unwrap();
+    assert_eq!(completion, json!([]));
+    assert!(client.shutdown());
+}
