@@ -12,21 +12,7 @@ use lsp_types::Range;
 use serde_json::{Value, json};
 
 /// A KB with one mistake: `ontabel` for `ontable` in pick_start's Valid list.
-const KB: &str = "\
-% A one-arm world for the protocol test.
-resources(agent(_)).
-
-action(pick_start(A, B),
-    [agent(A), ontabel(B), clear(B)], [], [], [],
-    [del(agent(A)), del(ontable(B)), add(holding(A, B))]).
-action(pick_end(A, B),
-    [holding(A, B)], [], [], [],
-    [del(holding(A, B)), add(agent(A)), add(held(B))]).
-
-duration(pick(_, _), 1, 2).
-
-test1 :- go([agent(a1), ontable(b1), clear(b1)], [held(b1)]).
-";
+const KB: &str = include_str!("support/one_arm.pl");
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("kbc-lsp-{name}-{}", std::process::id()));
@@ -45,6 +31,11 @@ fn position_of(text: &str, needle: &str, extra: u32) -> Value {
     let line = text[..at].matches('\n').count() as u32;
     let column = (at - text[..at].rfind('\n').map_or(0, |i| i + 1)) as u32 + extra;
     json!({ "line": line, "character": column })
+}
+
+/// Request parameters for the position of `needle` (plus `extra` columns) in `uri`'s `text`.
+fn at(uri: &str, text: &str, needle: &str, extra: u32) -> Value {
+    json!({ "textDocument": { "uri": uri }, "position": position_of(text, needle, extra) })
 }
 
 fn codes(diagnostics: &[Value]) -> Vec<String> {
@@ -114,55 +105,30 @@ fn a_scripted_editing_session() {
     assert_eq!(codes(&client.diagnostics(&uri)), ["E0210"]);
 
     // Hover on a state predicate: what adds and deletes it.
-    let hover = client
-        .request(
-            "textDocument/hover",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "holding(A, B)), add", 2) }),
-        )
-        .unwrap();
+    let hover = client.request("textDocument/hover", at(&uri, KB, "holding(A, B)), add", 2)).unwrap();
     let value = hover["contents"]["value"].as_str().unwrap();
     assert!(value.contains("holding/2"), "{value}");
     assert!(value.contains("added by `pick_start`"), "{value}");
     assert!(value.contains("deleted by `pick_end`"), "{value}");
     assert_eq!(hover["range"]["start"], position_of(KB, "holding(A, B)), add", 0));
     // Hover on an action name: its slots and its duration.
-    let hover = client
-        .request(
-            "textDocument/hover",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "pick_end", 1) }),
-        )
-        .unwrap();
+    let hover = client.request("textDocument/hover", at(&uri, KB, "pick_end", 1)).unwrap();
     let value = hover["contents"]["value"].as_str().unwrap();
     assert!(value.contains("the end of durative action `pick`"), "{value}");
     assert!(value.contains("Effects: `[del(holding(A, B)), add(agent(A)), add(held(B))]`"), "{value}");
     assert!(value.contains("duration: `duration(pick(_, _), 1, 2).`"), "{value}");
     // Hover on the diagnostic: the code's explanation.
-    let hover = client
-        .request(
-            "textDocument/hover",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "ontabel", 3) }),
-        )
-        .unwrap();
+    let hover = client.request("textDocument/hover", at(&uri, KB, "ontabel", 3)).unwrap();
     assert!(hover["contents"]["value"].as_str().unwrap().contains("# E0210"), "{hover:#}");
 
     // Go to definition: the goal's `held(b1)` is defined where an action adds it.
-    let definition = client
-        .request(
-            "textDocument/definition",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "[held(b1)]", 2) }),
-        )
-        .unwrap();
+    let definition = client.request("textDocument/definition", at(&uri, KB, "[held(b1)]", 2)).unwrap();
     let locations = definition.as_array().expect("a list of locations");
     assert_eq!(locations.len(), 1, "{definition:#}");
     assert_eq!(locations[0]["uri"], uri.as_str());
     assert_eq!(locations[0]["range"]["start"], position_of(KB, "held(B))])", 0));
     // From `pick` in the duration fact to both schemas of the durative action.
-    let definition = client
-        .request(
-            "textDocument/definition",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "pick(_, _)", 1) }),
-        )
-        .unwrap();
+    let definition = client.request("textDocument/definition", at(&uri, KB, "pick(_, _)", 1)).unwrap();
     let lines: Vec<u64> = definition.as_array().unwrap().iter().map(lines_of).collect();
     assert_eq!(lines, [3, 6], "{definition:#}");
     // References of `agent/1`: the resource, two conditions and effects, the initial state.
@@ -177,15 +143,10 @@ fn a_scripted_editing_session() {
         )
         .unwrap();
     let lines: Vec<u64> = references.as_array().unwrap().iter().map(lines_of).collect();
-    assert_eq!(lines, [1, 4, 5, 8, 12], "{references:#}");
+    assert_eq!(lines, [2, 4, 5, 8, 12], "{references:#}");
 
     // Completion: the KB's names that start with what is typed, with their arities.
-    let completion = client
-        .request(
-            "textDocument/completion",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(KB, "holding(A, B)), add", 3) }),
-        )
-        .unwrap();
+    let completion = client.request("textDocument/completion", at(&uri, KB, "holding(A, B)), add", 3)).unwrap();
     let labels: Vec<String> = completion
         .as_array()
         .unwrap()
@@ -233,12 +194,7 @@ fn a_scripted_editing_session() {
     );
     assert_eq!(client.diagnostics(&uri), Vec::<Value>::new(), "the fix resolves the diagnostic");
     // After the fix, `ontable/1` is a state predicate the hover describes.
-    let hover = client
-        .request(
-            "textDocument/hover",
-            json!({ "textDocument": { "uri": uri }, "position": position_of(&text, "ontable(B), clear", 1) }),
-        )
-        .unwrap();
+    let hover = client.request("textDocument/hover", at(&uri, &text, "ontable(B), clear", 1)).unwrap();
     assert!(hover["contents"]["value"].as_str().unwrap().contains("in the initial state of `test1`"), "{hover:#}");
 
     assert!(client.shutdown(), "a clean shutdown and exit");
@@ -516,7 +472,7 @@ fn mappings_navigate_both_ways() {
         json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
     );
     assert_eq!(client.diagnostics(&uri), Vec::<Value>::new());
-    let at = |needle: &str, extra: u32| json!({ "textDocument": { "uri": uri }, "position": position_of(&text, needle, extra) });
+    let at = |needle: &str, extra: u32| at(&uri, &text, needle, extra);
     let line = |needle: &str| position_of(&text, needle, 0)["line"].as_u64().unwrap();
 
     let step = client.request("textDocument/definition", at("close_gripper(A)]", 2)).unwrap();
