@@ -18,7 +18,7 @@ use crate::passes::load::{LoadedText, SourceLoader};
 use crate::source::{FileId, SourceDb, Span};
 
 use super::index::Index;
-use super::position::Lines;
+use super::position::{self, Lines};
 
 /// A checked unit.
 pub struct Analysis {
@@ -32,6 +32,8 @@ pub struct Analysis {
     pub roots: Vec<FileId>,
     /// Each file's URI, for files that have a path.
     uris: Vec<Option<Url>>,
+    /// Each file's protocol line starts.
+    line_starts: Vec<Vec<u32>>,
 }
 
 /// A root file to check.
@@ -70,7 +72,8 @@ impl Analysis {
                 None => db.file(id).path().and_then(|p| Url::from_file_path(p).ok()),
             })
             .collect();
-        Analysis { db, frontend, index, roots: root_ids, uris }
+        let line_starts = db.ids().map(|id| position::line_starts(db.text(id))).collect();
+        Analysis { db, frontend, index, roots: root_ids, uris, line_starts }
     }
 
     /// The file with this URI, if the unit read it.
@@ -104,7 +107,7 @@ impl Analysis {
 
     /// Position conversions for one file.
     pub fn lines(&self, file: FileId) -> Lines<'_> {
-        Lines::of(self.db.file(file))
+        Lines::new(self.db.text(file), &self.line_starts[file.0 as usize])
     }
 
     /// The protocol range of a span.

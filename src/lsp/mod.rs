@@ -220,7 +220,7 @@ impl Server {
                 let uri = &position.text_document.uri;
                 let document =
                     workspace.document(uri).ok_or_else(|| Failure::invalid_params(format!("`{uri}` is not open")))?;
-                let starts = crate::source::line_starts(&document.text);
+                let starts = position::line_starts(&document.text);
                 let offset = position::Lines::new(&document.text, &starts).offset(position.position);
                 let analysis = workspace.analysis_of(uri).map(|(a, _)| a);
                 let items = features::completion(analysis, &document.text, offset);

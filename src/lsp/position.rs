@@ -2,15 +2,13 @@
 //!
 //! The compiler's spans are byte offsets into UTF-8 text; the Language Server Protocol
 //! addresses text by line and UTF-16 column (its default, and the only encoding every client
-//! supports). [`Lines`] converts both ways. A line ends after `\n`; a `\r` before it
-//! belongs to the line's end, so a position past the last character of a CRLF line lands
-//! before the `\r`. Positions the client sends that are out of range are clamped (past the
+//! supports). [`Lines`] converts both ways. Lines end as the protocol says: at `\n`, `\r\n`
+//! or a lone `\r`, and a line's length excludes its terminator, so a position past the last
+//! character of a CRLF line lands before the `\r`. Positions the client sends that are out of range are clamped (past the
 //! end of a line to its end, past the last line to the end of the text, inside a surrogate
 //! pair to the start of its character), as the protocol asks servers to do.
 
 use lsp_types::{Position, Range};
-
-use crate::source::SourceFile;
 
 /// One text and the start of each of its lines, for conversions between byte offsets and
 /// protocol positions.
@@ -22,14 +20,9 @@ pub struct Lines<'a> {
 }
 
 impl<'a> Lines<'a> {
-    /// `text` with its line starts (from [`crate::source::line_starts`]).
+    /// `text` with its line starts (from [`line_starts`]).
     pub fn new(text: &'a str, starts: &'a [u32]) -> Lines<'a> {
         Lines { text, starts }
-    }
-
-    /// A file of the source database, whose line starts are already known.
-    pub fn of(file: &'a SourceFile) -> Lines<'a> {
-        Lines { text: file.text(), starts: file.line_starts() }
     }
 
     /// The protocol position of byte `offset`. An offset inside a character counts as that
@@ -79,24 +72,38 @@ impl<'a> Lines<'a> {
         Range { start: self.position(bytes.start), end: self.position(bytes.end) }
     }
 
-    /// Where line `line`'s text ends: before its `\n` (and a `\r` just before that).
+    /// Where line `line`'s text ends: before its terminator.
     fn line_end(&self, line: usize) -> usize {
         let Some(&next) = self.starts.get(line + 1) else {
             return self.text.len();
         };
         let start = self.starts[line] as usize;
+        let bytes = self.text.as_bytes();
         let mut end = next as usize - 1;
-        if end > start && self.text.as_bytes()[end - 1] == b'\r' {
+        if bytes[end] == b'\n' && end > start && bytes[end - 1] == b'\r' {
             end -= 1;
         }
         end
     }
 }
 
+/// The byte offset at which each protocol line of `text` starts (after `\n`, `\r\n` or a lone
+/// `\r`); the first is 0.
+pub fn line_starts(text: &str) -> Vec<u32> {
+    let bytes = text.as_bytes();
+    let mut starts = vec![0];
+    for (at, &byte) in bytes.iter().enumerate() {
+        if byte == b'\n' || (byte == b'\r' && bytes.get(at + 1) != Some(&b'\n')) {
+            starts.push(at as u32 + 1);
+        }
+    }
+    starts
+}
+
 /// Applies one `textDocument/didChange` edit: the text between the range's ends becomes
 /// `replacement`. Returns the new text.
 pub fn apply_edit(text: &str, range: Range, replacement: &str) -> String {
-    let starts = crate::source::line_starts(text);
+    let starts = line_starts(text);
     let bytes = Lines::new(text, &starts).offsets(range);
     let mut out = String::with_capacity(text.len() - bytes.len() + replacement.len());
     out.push_str(&text[..bytes.start]);
@@ -116,7 +123,7 @@ mod tests {
     #[test]
     fn ascii_offsets_and_positions_agree() {
         let text = "on(a, b).\nclear(a).\n";
-        let starts = crate::source::line_starts(text);
+        let starts = line_starts(text);
         let index = Lines::new(text, &starts);
         assert_eq!(index.position(0), pos(0, 0));
         assert_eq!(index.position(3), pos(0, 3));
@@ -131,7 +138,7 @@ mod tests {
     fn columns_count_utf16_units_not_bytes() {
         // `é` is 2 bytes and 1 UTF-16 unit; `🤖` is 4 bytes and 2 units (a surrogate pair).
         let text = "% é🤖x\nfoo.";
-        let starts = crate::source::line_starts(text);
+        let starts = line_starts(text);
         let index = Lines::new(text, &starts);
         let x = text.find('x').unwrap();
         assert_eq!(x, 8);
@@ -148,7 +155,7 @@ mod tests {
     #[test]
     fn out_of_range_positions_are_clamped() {
         let text = "ab\r\ncd";
-        let starts = crate::source::line_starts(text);
+        let starts = line_starts(text);
         let index = Lines::new(text, &starts);
         // Past the end of a CRLF line: before the `\r`.
         assert_eq!(index.offset(pos(0, 99)), 2);
@@ -157,6 +164,18 @@ mod tests {
         assert_eq!(index.position(99), pos(1, 2));
         let reversed = Range { start: pos(1, 1), end: pos(0, 0) };
         assert_eq!(index.offsets(reversed), 5..5);
+    }
+
+    #[test]
+    fn a_lone_carriage_return_ends_a_line() {
+        let text = "a\rb\r\nc\nd";
+        assert_eq!(line_starts(text), [0, 2, 5, 7]);
+        let starts = line_starts(text);
+        let index = Lines::new(text, &starts);
+        assert_eq!(index.position(2), pos(1, 0));
+        assert_eq!(index.offset(pos(0, 9)), 1);
+        assert_eq!(index.offset(pos(1, 9)), 3);
+        assert_eq!(index.offset(pos(2, 9)), 6);
     }
 
     #[test]
