@@ -71,7 +71,7 @@ fn stats(label: &str, mut samples: Vec<Duration>) {
     let median = samples[samples.len() / 2];
     let p90 = samples[samples.len() * 9 / 10];
     println!(
-        "{label:<38} median {:>7.2} ms   p90 {:>7.2} ms   max {:>7.2} ms   ({} edits)",
+        "{label:<46} median {:>7.2} ms   p90 {:>7.2} ms   max {:>7.2} ms   ({} edits)",
         ms(median),
         ms(p90),
         ms(*samples.last().unwrap()),

@@ -92,10 +92,10 @@ fn describe(analysis: &Analysis, key: Key) -> String {
                 hir::ProblemForm::InitGoalState => "`init_state` and `goal_state`".to_string(),
             };
             let mut text = format!(
-                "```prolog\n{}\n```\nproblem ({form}): {} initial facts, {} goal literals",
+                "```prolog\n{}\n```\nproblem ({form}): {}, {}",
                 name(problem),
-                p.init.len(),
-                p.goal.len()
+                count(p.init.len(), "initial fact", "initial facts"),
+                count(p.goal.len(), "goal literal", "goal literals"),
             );
             if let Some(depth) = p.max_depth {
                 text.push_str(&format!(", depth limit {depth}"));
@@ -143,9 +143,10 @@ fn describe_predicate(analysis: &Analysis, predicate: Symbol, arity: usize) -> S
         let places: Vec<String> = clauses.iter().take(5).map(|c| place(&analysis.db, c.span)).collect();
         let more = if clauses.len() > 5 { ", ..." } else { "" };
         lines.push(format!(
-            "- {} clauses ({} facts, {rules} rules): {}{more}",
-            clauses.len(),
-            clauses.len() - rules,
+            "- {} ({}, {}): {}{more}",
+            count(clauses.len(), "clause", "clauses"),
+            count(clauses.len() - rules, "fact", "facts"),
+            count(rules, "rule", "rules"),
             places.join(", ")
         ));
     }
@@ -199,6 +200,11 @@ fn describe_action(analysis: &Analysis, action: &Action) -> String {
         text.push_str(&format!("\n- refined by `{}`", one_line(analysis.db.snippet(mapping.span))));
     }
     text
+}
+
+/// `n` and the noun in the right number.
+fn count(n: usize, one: &str, many: &str) -> String {
+    if n == 1 { format!("1 {one}") } else { format!("{n} {many}") }
 }
 
 /// `file:line` of a span's start.
@@ -255,12 +261,16 @@ pub fn document_symbols(analysis: &Analysis, file: FileId) -> Vec<DocumentSymbol
     }
     for mapping in kb.mappings.iter().filter(|m| m.span.file == file) {
         let name = format!("mapping {}", indicator(interner, mapping.high.name(), mapping.high.arity()));
-        let detail = format!("{} steps", mapping.steps.len());
+        let detail = count(mapping.steps.len(), "step", "steps");
         let symbol = symbol(name, Some(detail), SymbolKind::INTERFACE, mapping.span, mapping.high.name_span, None);
         symbols.push((mapping.span.start, symbol));
     }
     for problem in kb.problems.iter().filter(|p| p.span.file == file) {
-        let detail = format!("{} initial facts, {} goal literals", problem.init.len(), problem.goal.len());
+        let detail = format!(
+            "{}, {}",
+            count(problem.init.len(), "initial fact", "initial facts"),
+            count(problem.goal.len(), "goal literal", "goal literals")
+        );
         let name = interner.resolve(problem.name).to_string();
         symbols.push((
             problem.span.start,
@@ -282,7 +292,7 @@ pub fn document_symbols(analysis: &Analysis, file: FileId) -> Vec<DocumentSymbol
             .collect();
         let first = clauses[0].span;
         let whole = clauses.iter().fold(first, |span, c| span.to(c.span));
-        let detail = format!("{} clauses", clauses.len());
+        let detail = count(clauses.len(), "clause", "clauses");
         let group = symbol(
             indicator(interner, name, arity),
             Some(detail),
