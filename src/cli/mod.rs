@@ -21,6 +21,7 @@ use crate::syntax::printer;
 mod bench;
 mod build;
 mod export;
+pub mod llm;
 mod plan;
 mod validate;
 
