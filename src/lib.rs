@@ -16,6 +16,7 @@ pub mod builtins;
 pub mod cli;
 pub mod codegen;
 pub mod diag;
+pub mod draft;
 pub mod driver;
 pub mod engine;
 pub mod execute;
