@@ -143,8 +143,7 @@ pub(super) fn build(args: BuildArgs, color: bool) -> ExitCode {
             Ok(built) => built,
             Err(diagnostic) => {
                 diagnostics.push(*diagnostic);
-                report(&db, &diagnostics, args.planning.message_format, color);
-                return ExitCode::from(1);
+                return super::fail(&db, &diagnostics, args.planning.message_format, color);
             }
         };
     report(&db, &diagnostics, args.planning.message_format, color);
@@ -201,10 +200,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
     let format = args.planning.message_format;
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
-        report(db, diagnostics, format, color);
-        ExitCode::from(1)
-    };
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, format, color);
     let sim_only = [
         (!args.fault.is_empty(), "--fault"),
         (args.record.is_some(), "--record"),
@@ -442,10 +438,7 @@ fn run_once(
     let max_time = args.max_time_units(&program);
     let format = args.planning.message_format;
     let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
-        report(db, diagnostics, format, color);
-        ExitCode::from(1)
-    };
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, format, color);
     let (result, log, world) = match sim {
         None => {
             let mut host = Logged::new(TraceHost::default());
@@ -671,8 +664,7 @@ fn run_with_recovery(
         }
         recover::Verdict::InvalidTimeline(found) => diagnostics.extend(found.clone()),
     }
-    report(&db, &diagnostics, format, color);
-    ExitCode::from(1)
+    super::fail(&db, &diagnostics, format, color)
 }
 
 /// The chart of `--gantt-svg`: per arm, a lane of the first plan's schedule and a lane of

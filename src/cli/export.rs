@@ -65,10 +65,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
     let ExportCommand::Pddl(args) = command;
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
-        report(db, diagnostics, args.message_format, color);
-        ExitCode::from(1)
-    };
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, args.message_format, color);
     let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
     let Some((frontend, problem)) = found else {
         return fail(&db, &diagnostics);

@@ -266,6 +266,12 @@ fn check(args: CheckArgs, color: bool) -> ExitCode {
     if diagnostics.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }
 }
 
+/// Prints the diagnostics and gives exit status 1: how a command ends on errors in its input.
+pub(crate) fn fail(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) -> ExitCode {
+    report(db, diagnostics, format, color);
+    ExitCode::from(1)
+}
+
 pub(crate) fn report(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) {
     match format {
         MessageFormat::Human => {

@@ -199,10 +199,7 @@ pub(super) fn search_options(args: &PlanningArgs) -> Options {
 pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: bool) -> Result<Planned, ExitCode> {
     let mut db = SourceDb::new();
     let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| {
-        report(db, diagnostics, args.message_format, color);
-        ExitCode::from(1)
-    };
+    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, args.message_format, color);
     let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
     let Some((mut frontend, problem)) = found else {
         return Err(fail(&db, &diagnostics));

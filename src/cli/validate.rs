@@ -36,27 +36,23 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
     let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
     diagnostics.extend(frontend.diagnostics);
     if diagnostics.has_errors() {
-        report(&db, &diagnostics, args.message_format, color);
-        return ExitCode::from(1);
+        return super::fail(&db, &diagnostics, args.message_format, color);
     }
     let kb = &frontend.kb;
     let problem = match driver::select_problem(kb, &frontend.interner, args.problem.as_deref()) {
         Ok(problem) => problem,
         Err(diagnostic) => {
             diagnostics.push(*diagnostic);
-            report(&db, &diagnostics, args.message_format, color);
-            return ExitCode::from(1);
+            return super::fail(&db, &diagnostics, args.message_format, color);
         }
     };
     let Some(&plan_file) = plan_file.first() else {
-        report(&db, &diagnostics, args.message_format, color);
-        return ExitCode::from(1);
+        return super::fail(&db, &diagnostics, args.message_format, color);
     };
     let text = db.file(plan_file).text_arc();
     let steps = validate::read_plan(plan_file, &text, &mut frontend.interner, &mut diagnostics);
     if diagnostics.has_errors() {
-        report(&db, &diagnostics, args.message_format, color);
-        return ExitCode::from(1);
+        return super::fail(&db, &diagnostics, args.message_format, color);
     }
     let program = planner::program_for(kb, problem);
     let timed = steps.first().is_some_and(|s| s.timing.is_some());
