@@ -624,7 +624,7 @@ fn random_edits_keep_the_server_in_step_with_the_client() {
     assert!(client.shutdown());
 
     let fresh_dir = scratch("random-fresh");
-    let fresh_uri = super_uri(&fresh_dir);
+    let fresh_uri = crate::uri(&fresh_dir.join("kb.pl"));
     let mut fresh = Client::start(&fresh_dir, json!({ "debounceMs": 0 }));
     fresh.notify(
         "textDocument/didOpen",
@@ -643,10 +643,6 @@ fn random_edits_keep_the_server_in_step_with_the_client() {
             .collect()
     };
     assert_eq!(strip(incremental), strip(expected), "the final text:\n{text}");
-}
-
-fn super_uri(dir: &Path) -> String {
-    uri(&dir.join("kb.pl"))
 }
 
 /// The document text after random incremental edits equals the independent reading of the

@@ -168,11 +168,6 @@ impl Client {
         Ok(Client { agent, endpoint, retry: Retry { attempts: retry.attempts.max(1), ..retry }, timeout })
     }
 
-    /// The endpoint this client talks to.
-    pub fn endpoint(&self) -> &Endpoint {
-        &self.endpoint
-    }
-
     /// Asks for a completion of `messages` at temperature 0.
     pub fn complete(&self, messages: &[Message]) -> Result<Completion, LlmError> {
         let url = self.endpoint.completions_url();

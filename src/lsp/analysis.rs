@@ -125,11 +125,6 @@ impl Analysis {
         Some(Location { uri: self.uri(span.file)?.clone(), range: self.range(span) })
     }
 
-    /// The name of a file as messages show it.
-    pub fn file_name(&self, file: FileId) -> &str {
-        self.db.file(file).name()
-    }
-
     /// The compiler's diagnostics whose primary label is in `file`, plus, for the first root,
     /// the errors and warnings that point nowhere.
     pub fn diagnostics_in(&self, file: FileId) -> impl Iterator<Item = &Diagnostic> {

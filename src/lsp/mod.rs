@@ -45,7 +45,7 @@ use lsp_types::{
     GotoDefinitionResponse, HoverParams, HoverProviderCapability, InitializeParams, InitializeResult, OneOf,
     PositionEncodingKind, PublishDiagnosticsParams, ReferenceParams, SaveOptions, ServerCapabilities, ServerInfo,
     TextDocumentPositionParams, TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
-    TextDocumentSyncSaveOptions, Url, WorkspaceSymbolParams, WorkspaceSymbolResponse,
+    TextDocumentSyncSaveOptions, WorkspaceSymbolParams, WorkspaceSymbolResponse,
 };
 use serde::de::DeserializeOwned;
 
@@ -398,9 +398,4 @@ fn params<P: DeserializeOwned>(request: Request) -> Result<P, Failure> {
 
 fn notification_params<P: DeserializeOwned>(notification: Notification) -> Result<P, String> {
     serde_json::from_value(notification.params).map_err(|e| format!("invalid parameters: {e}"))
-}
-
-/// The URI of a path, for tests and tools that build requests.
-pub fn uri_of(path: &std::path::Path) -> Option<Url> {
-    Url::from_file_path(path).ok()
 }

@@ -20,6 +20,7 @@ use lsp_types::{Diagnostic as LspDiagnostic, TextDocumentContentChangeEvent, Url
 
 use super::analysis::{Analysis, OverlayLoader, RootText};
 use super::position::apply_edit;
+use crate::passes::load::SourceLoader;
 use crate::source::FileId;
 
 /// How files are grouped into units.
@@ -50,16 +51,6 @@ pub struct Document {
     path: Option<PathBuf>,
 }
 
-/// A unit and its last check.
-#[derive(Default)]
-struct Unit {
-    analysis: Option<Analysis>,
-    /// The files it read, as URIs, at its last check.
-    files: BTreeSet<Url>,
-    /// The paths it read through includes at its last check.
-    included: BTreeSet<PathBuf>,
-}
-
 /// One file's diagnostics, ready to publish.
 pub struct Published {
     /// The file.
@@ -75,7 +66,8 @@ pub struct Workspace {
     root: Option<PathBuf>,
     grouping: Grouping,
     documents: BTreeMap<Url, Document>,
-    units: BTreeMap<UnitId, Unit>,
+    /// Each unit's last check; `None` for a unit checked with no roots (nothing to read).
+    units: BTreeMap<UnitId, Option<Analysis>>,
 }
 
 impl Workspace {
@@ -134,8 +126,12 @@ impl Workspace {
     /// The units to re-check when `uri` changes: those that read it at their last check, or
     /// the unit it belongs to when none has yet.
     pub fn units_reading(&self, uri: &Url) -> Vec<UnitId> {
-        let mut units: Vec<UnitId> =
-            self.units.iter().filter(|(_, unit)| unit.files.contains(uri)).map(|(id, _)| id.clone()).collect();
+        let mut units: Vec<UnitId> = self
+            .units
+            .iter()
+            .filter(|(_, analysis)| analysis.as_ref().is_some_and(|a| a.file_of(uri).is_some()))
+            .map(|(id, _)| id.clone())
+            .collect();
         let home = self.home_unit(uri);
         if !units.contains(&home) {
             units.push(home);
@@ -168,11 +164,11 @@ impl Workspace {
             let id = UnitId::Folder(dir.to_path_buf());
             if !self.units.contains_key(&id) {
                 self.check(std::slice::from_ref(&id));
-                if self.units.get(&id).is_some_and(|u| u.analysis.is_some()) {
+                if self.units.get(&id).is_some_and(Option::is_some) {
                     discovered.push(id.clone());
                 }
             }
-            if self.units.get(&id).is_some_and(|u| u.included.contains(&path)) {
+            if self.units.get(&id).and_then(Option::as_ref).is_some_and(|a| a.included_paths().contains(&path)) {
                 break;
             }
             folder = dir.parent();
@@ -185,16 +181,17 @@ impl Workspace {
         let mut touched: BTreeSet<Url> = BTreeSet::new();
         let mut recheck: BTreeSet<UnitId> = BTreeSet::new();
         for id in ids {
-            let before = self.units.get(id).map(|u| (u.files.clone(), u.included.clone())).unwrap_or_default();
-            touched.extend(before.0);
+            let previous = self.units.get(id).and_then(Option::as_ref);
+            touched.extend(previous.into_iter().flat_map(Analysis::uris).cloned());
+            let included_before: BTreeSet<PathBuf> =
+                previous.map(Analysis::included_paths).unwrap_or_default().into_iter().collect();
             let analysis = self.analyse(id);
-            let unit = self.units.entry(id.clone()).or_default();
-            unit.files = analysis.as_ref().map(|a| a.uris().cloned().collect()).unwrap_or_default();
-            unit.included = analysis.as_ref().map(|a| a.included_paths().into_iter().collect()).unwrap_or_default();
-            unit.analysis = analysis;
-            touched.extend(unit.files.iter().cloned());
+            touched.extend(analysis.iter().flat_map(Analysis::uris).cloned());
+            let included: BTreeSet<PathBuf> =
+                analysis.as_ref().map(Analysis::included_paths).unwrap_or_default().into_iter().collect();
+            self.units.insert(id.clone(), analysis);
             // A file no longer included here becomes a root of its own folder again.
-            for dropped in before.1.difference(&unit.included) {
+            for dropped in included_before.difference(&included) {
                 if let Some(folder) = dropped.parent() {
                     recheck.insert(UnitId::Folder(folder.to_path_buf()));
                 }
@@ -212,10 +209,8 @@ impl Workspace {
     /// One file's diagnostics over every unit that read it.
     fn published(&self, uri: Url) -> Published {
         let mut diagnostics = Vec::new();
-        for unit in self.units.values() {
-            if let Some(analysis) = &unit.analysis
-                && let Some(file) = analysis.file_of(&uri)
-            {
+        for analysis in self.units.values().flatten() {
+            if let Some(file) = analysis.file_of(&uri) {
                 for diagnostic in analysis.diagnostics_in(file) {
                     let converted = analysis.to_lsp(diagnostic);
                     if !diagnostics.contains(&converted) {
@@ -231,30 +226,32 @@ impl Workspace {
     /// Runs the front end on a unit's roots; `None` when it has none.
     fn analyse(&self, id: &UnitId) -> Option<Analysis> {
         let mut excluded: BTreeSet<PathBuf> = BTreeSet::new();
-        for (other, unit) in &self.units {
-            if other != id {
-                excluded.extend(unit.included.iter().cloned());
+        for (other, analysis) in &self.units {
+            if other != id
+                && let Some(analysis) = analysis
+            {
+                excluded.extend(analysis.included_paths());
             }
         }
         let open =
             |path: &Path| self.documents.values().find(|d| d.path.as_deref() == Some(path)).map(|d| d.text.clone());
         let base = self.root.as_deref();
-        // At most twice: the second time without roots the first found included by others.
-        let mut roots = self.root_paths(id, &excluded);
-        for _ in 0..2 {
-            if roots.is_empty() {
-                return None;
-            }
+        let run = |roots: &[PathBuf]| {
             let texts = roots.iter().filter_map(|path| self.root_text(id, path)).collect();
-            let analysis = Analysis::run(texts, &mut OverlayLoader { open: &open }, base);
-            let included: BTreeSet<PathBuf> = analysis.included_paths().into_iter().collect();
-            if !roots.iter().any(|r| included.contains(r)) {
-                return Some(analysis);
-            }
-            roots.retain(|r| !included.contains(r));
+            Analysis::run(texts, &mut OverlayLoader { open: &open }, base)
+        };
+        let mut roots = self.root_paths(id, &excluded);
+        if roots.is_empty() {
+            return None;
         }
-        let texts = roots.iter().filter_map(|path| self.root_text(id, path)).collect();
-        Some(Analysis::run(texts, &mut OverlayLoader { open: &open }, base))
+        let first = run(&roots);
+        // A root that another root includes is read where it is included: check again without.
+        let included = first.included_paths();
+        if !roots.iter().any(|r| included.contains(r)) {
+            return Some(first);
+        }
+        roots.retain(|r| !included.contains(r));
+        (!roots.is_empty()).then(|| run(&roots))
     }
 
     /// A unit's root files, sorted, without those `excluded`.
@@ -296,7 +293,7 @@ impl Workspace {
         if let Some((uri, document)) = self.documents.iter().find(|(_, d)| d.path == owned) {
             return Some(RootText { uri: uri.clone(), path: owned, text: document.text.clone() });
         }
-        let text = std::fs::read_to_string(path).ok()?;
+        let text = crate::cli::FsLoader.load(path).ok()?.text;
         Some(RootText { uri: Url::from_file_path(path).ok()?, path: owned, text })
     }
 
@@ -304,13 +301,13 @@ impl Workspace {
     /// comes first, then the others in order.
     pub fn analysis_of(&self, uri: &Url) -> Option<(&Analysis, FileId)> {
         let home = self.home_unit(uri);
-        let home_first =
-            self.units.get(&home).into_iter().chain(self.units.iter().filter(|(id, _)| **id != home).map(|(_, u)| u));
-        home_first.filter_map(|u| u.analysis.as_ref()).find_map(|a| a.file_of(uri).map(|f| (a, f)))
+        let others = self.units.iter().filter(|(id, _)| **id != home).map(|(_, analysis)| analysis);
+        let home_first = self.units.get(&home).into_iter().chain(others);
+        home_first.flatten().find_map(|a| a.file_of(uri).map(|f| (a, f)))
     }
 
     /// Every check, for workspace-wide requests.
     pub fn analyses(&self) -> impl Iterator<Item = &Analysis> {
-        self.units.values().filter_map(|u| u.analysis.as_ref())
+        self.units.values().flatten()
     }
 }
