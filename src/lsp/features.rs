@@ -351,12 +351,46 @@ fn fuzzy_match(query: &str, name: &str) -> bool {
     query.chars().flat_map(char::to_lowercase).all(|q| name.any(|n| n == q))
 }
 
+/// What a completed name is, most specific first (the order picks one description per name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum NameKind {
+    Action,
+    ArmAction,
+    StatePredicate,
+    StaticPredicate,
+    Predicate,
+    Builtin,
+    ClauseForm,
+}
+
+impl NameKind {
+    fn describe(self) -> &'static str {
+        match self {
+            NameKind::Action => "action",
+            NameKind::ArmAction => "arm-level action",
+            NameKind::StatePredicate => "state predicate",
+            NameKind::StaticPredicate => "static predicate",
+            NameKind::Predicate => "predicate",
+            NameKind::Builtin => "built-in",
+            NameKind::ClauseForm => "KB clause form",
+        }
+    }
+
+    fn item_kind(self) -> CompletionItemKind {
+        match self {
+            NameKind::Action | NameKind::ArmAction => CompletionItemKind::METHOD,
+            NameKind::Builtin | NameKind::ClauseForm => CompletionItemKind::KEYWORD,
+            _ => CompletionItemKind::FUNCTION,
+        }
+    }
+}
+
 /// A name to complete.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Candidate {
     name: String,
     arity: usize,
-    what: &'static str,
+    kind: NameKind,
 }
 
 /// Completion of predicate and action names at `offset` of `text` (the open buffer): the
@@ -375,7 +409,7 @@ pub fn completion(analysis: Option<&Analysis>, text: &str, offset: usize) -> Vec
     candidates.extend(std_names().iter().cloned());
     for &(name, arity, _) in builtins::PREDICATES {
         if name.starts_with(|c: char| c.is_ascii_lowercase()) {
-            candidates.insert(Candidate { name: name.to_string(), arity, what: "built-in" });
+            candidates.insert(Candidate { name: name.to_string(), arity, kind: NameKind::Builtin });
         }
     }
     for (name, arity) in [
@@ -388,42 +422,30 @@ pub fn completion(analysis: Option<&Analysis>, text: &str, offset: usize) -> Vec
         ("go", 2),
         ("duration", 3),
     ] {
-        candidates.insert(Candidate { name: name.to_string(), arity, what: "KB clause form" });
+        candidates.insert(Candidate { name: name.to_string(), arity, kind: NameKind::ClauseForm });
     }
-    // One item per name and arity; the most specific description wins.
-    let mut best: BTreeMap<(String, usize), &'static str> = BTreeMap::new();
-    for candidate in &candidates {
-        let entry = best.entry((candidate.name.clone(), candidate.arity)).or_insert(candidate.what);
-        if rank(candidate.what) < rank(entry) {
-            *entry = candidate.what;
+    // Sorted by name, arity, then kind: the first of each name and arity is the most specific.
+    let mut seen: Option<(String, usize)> = None;
+    let mut items = Vec::new();
+    for Candidate { name, arity, kind } in candidates {
+        if seen.as_ref() == Some(&(name.clone(), arity)) || !name.starts_with(prefix) || name == prefix {
+            continue;
         }
-    }
-    best.into_iter()
-        .filter(|((name, _), _)| name.starts_with(prefix) && name != prefix)
-        .map(|((name, arity), what)| CompletionItem {
+        seen = Some((name.clone(), arity));
+        let what = kind.describe();
+        items.push(CompletionItem {
             label: name.clone(),
             label_details: Some(CompletionItemLabelDetails {
                 detail: Some(format!("/{arity}")),
                 description: Some(what.to_string()),
             }),
-            kind: Some(match what {
-                "action" | "arm-level action" => CompletionItemKind::METHOD,
-                "built-in" | "KB clause form" => CompletionItemKind::KEYWORD,
-                _ => CompletionItemKind::FUNCTION,
-            }),
+            kind: Some(kind.item_kind()),
             detail: Some(format!("{name}/{arity}: {what}")),
             insert_text: Some(name),
             ..CompletionItem::default()
-        })
-        .collect()
-}
-
-/// The order descriptions are preferred in, most specific first.
-fn rank(what: &str) -> usize {
-    ["action", "arm-level action", "state predicate", "static predicate", "predicate", "built-in", "KB clause form"]
-        .iter()
-        .position(|w| *w == what)
-        .unwrap_or(usize::MAX)
+        });
+    }
+    items
 }
 
 /// The names an index knows, described.
@@ -432,17 +454,17 @@ fn names(index: &Index, kb: &Kb, interner: &Interner) -> Vec<Candidate> {
     for occurrence in index.occurrences() {
         let candidate = match (occurrence.key, occurrence.role) {
             (Key::Predicate(name, arity), role) => {
-                let what = match role {
-                    Role::Added | Role::Deleted | Role::Init => "state predicate",
-                    Role::ClauseHead => "static predicate",
-                    _ => "predicate",
+                let kind = match role {
+                    Role::Added | Role::Deleted | Role::Init => NameKind::StatePredicate,
+                    Role::ClauseHead => NameKind::StaticPredicate,
+                    _ => NameKind::Predicate,
                 };
-                Candidate { name: interner.resolve(name).to_string(), arity, what }
+                Candidate { name: interner.resolve(name).to_string(), arity, kind }
             }
             (Key::Action(name), Role::Declaration) => {
                 let Some(action) = kb.actions.iter().find(|a| a.name.name() == name) else { continue };
-                let what = if action.level == Level::High { "action" } else { "arm-level action" };
-                Candidate { name: interner.resolve(name).to_string(), arity: action.name.arity(), what }
+                let kind = if action.level == Level::High { NameKind::Action } else { NameKind::ArmAction };
+                Candidate { name: interner.resolve(name).to_string(), arity: action.name.arity(), kind }
             }
             _ => continue,
         };
