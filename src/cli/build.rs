@@ -718,11 +718,10 @@ fn run_chart(
     let name = frontend.interner.resolve(frontend.kb.problems[execution.rounds[0].problem].name);
     let first = &execution.rounds[0].program;
     let title = format!(
-        "{name}: planned makespan {}, executed {} ({} round{})",
+        "{name}: planned makespan {}, executed {} ({})",
         first.time_text(schedule.makespan),
         first.time_text(end),
-        execution.rounds.len(),
-        if execution.rounds.len() == 1 { "" } else { "s" }
+        crate::diag::plural(execution.rounds.len(), "round")
     );
     gantt::draw(&title, &lanes, &bars, &marks, end)
 }

@@ -224,6 +224,11 @@ impl IntoIterator for Diagnostics {
     }
 }
 
+/// A count and its noun for messages: "1 argument", "2 arguments".
+pub fn plural(n: usize, word: &str) -> String {
+    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
+}
+
 /// Damerau-Levenshtein edit distance (optimal string alignment), for did-you-mean suggestions.
 pub fn edit_distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.chars().collect();

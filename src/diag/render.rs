@@ -8,7 +8,7 @@ use std::io;
 use codespan_reporting::diagnostic as cs;
 use codespan_reporting::term;
 
-use super::{Diagnostic, Diagnostics, Severity};
+use super::{Diagnostic, Diagnostics, Severity, plural};
 use crate::source::{SourceDb, Span};
 
 fn to_codespan(diagnostic: &Diagnostic) -> cs::Diagnostic<crate::source::FileId> {
@@ -73,7 +73,6 @@ fn severity_word(severity: Severity) -> &'static str {
 pub fn summary(diagnostics: &Diagnostics) -> Option<String> {
     let errors = diagnostics.error_count();
     let warnings = diagnostics.warning_count();
-    let plural = |n: usize, word: &str| if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") };
     match (errors, warnings) {
         (0, 0) => None,
         (0, w) => Some(format!("warning: {} emitted", plural(w, "warning"))),

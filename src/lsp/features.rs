@@ -15,7 +15,7 @@ use lsp_types::{
 use super::analysis::Analysis;
 use super::index::{Index, Key, Role, indicator};
 use crate::builtins;
-use crate::diag::codes;
+use crate::diag::{codes, plural};
 use crate::driver;
 use crate::intern::{Interner, Symbol};
 use crate::ir::hir::{self, Action, EffectKind, Kb, Level, Snap};
@@ -94,8 +94,8 @@ fn describe(analysis: &Analysis, key: Key) -> String {
             let mut text = format!(
                 "```prolog\n{}\n```\nproblem ({form}): {}, {}",
                 name(problem),
-                count(p.init.len(), "initial fact", "initial facts"),
-                count(p.goal.len(), "goal literal", "goal literals"),
+                plural(p.init.len(), "initial fact"),
+                plural(p.goal.len(), "goal literal"),
             );
             if let Some(depth) = p.max_depth {
                 text.push_str(&format!(", depth limit {depth}"));
@@ -144,9 +144,9 @@ fn describe_predicate(analysis: &Analysis, predicate: Symbol, arity: usize) -> S
         let more = if clauses.len() > 5 { ", ..." } else { "" };
         lines.push(format!(
             "- {} ({}, {}): {}{more}",
-            count(clauses.len(), "clause", "clauses"),
-            count(clauses.len() - rules, "fact", "facts"),
-            count(rules, "rule", "rules"),
+            plural(clauses.len(), "clause"),
+            plural(clauses.len() - rules, "fact"),
+            plural(rules, "rule"),
             places.join(", ")
         ));
     }
@@ -200,11 +200,6 @@ fn describe_action(analysis: &Analysis, action: &Action) -> String {
         text.push_str(&format!("\n- refined by `{}`", one_line(analysis.db.snippet(mapping.span))));
     }
     text
-}
-
-/// `n` and the noun in the right number.
-fn count(n: usize, one: &str, many: &str) -> String {
-    if n == 1 { format!("1 {one}") } else { format!("{n} {many}") }
 }
 
 /// `file:line` of a span's start.
@@ -261,16 +256,13 @@ pub fn document_symbols(analysis: &Analysis, file: FileId) -> Vec<DocumentSymbol
     }
     for mapping in kb.mappings.iter().filter(|m| m.span.file == file) {
         let name = format!("mapping {}", indicator(interner, mapping.high.name(), mapping.high.arity()));
-        let detail = count(mapping.steps.len(), "step", "steps");
+        let detail = plural(mapping.steps.len(), "step");
         let symbol = symbol(name, Some(detail), SymbolKind::INTERFACE, mapping.span, mapping.high.name_span, None);
         symbols.push((mapping.span.start, symbol));
     }
     for problem in kb.problems.iter().filter(|p| p.span.file == file) {
-        let detail = format!(
-            "{}, {}",
-            count(problem.init.len(), "initial fact", "initial facts"),
-            count(problem.goal.len(), "goal literal", "goal literals")
-        );
+        let detail =
+            format!("{}, {}", plural(problem.init.len(), "initial fact"), plural(problem.goal.len(), "goal literal"));
         let name = interner.resolve(problem.name).to_string();
         symbols.push((
             problem.span.start,
@@ -292,7 +284,7 @@ pub fn document_symbols(analysis: &Analysis, file: FileId) -> Vec<DocumentSymbol
             .collect();
         let first = clauses[0].span;
         let whole = clauses.iter().fold(first, |span, c| span.to(c.span));
-        let detail = count(clauses.len(), "clause", "clauses");
+        let detail = plural(clauses.len(), "clause");
         let group = symbol(
             indicator(interner, name, arity),
             Some(detail),

@@ -18,11 +18,12 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::builtins;
+use crate::diag::plural;
 use crate::diag::{Diagnostic, Diagnostics, best_match, codes};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{self, Action, DeclarationKind, EffectKind, Goal, Kb, Level, Literal, Snap, Term, VarId};
 use crate::ir::unify::unifiable;
-use crate::passes::lower::{join_and, plural};
+use crate::passes::lower::join_and;
 use crate::source::Span;
 
 /// Runs every whole-KB check.

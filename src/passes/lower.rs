@@ -15,7 +15,7 @@
 use rustc_hash::FxHashMap;
 
 use super::load::Loaded;
-use crate::diag::{Diagnostic, Diagnostics, Edit, codes};
+use crate::diag::{Diagnostic, Diagnostics, Edit, codes, plural};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{
     self, Action, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level, Literal,
@@ -918,11 +918,6 @@ impl Lowerer<'_> {
                 }),
         );
     }
-}
-
-/// "1 argument", "2 arguments".
-pub fn plural(n: usize, word: &str) -> String {
-    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
 }
 
 /// Joins `a`, `b` and `c` as "a, b and c".
