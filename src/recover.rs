@@ -36,7 +36,7 @@ pub struct Settings<'a> {
     pub options: &'a dyn Fn() -> Options,
     /// The host profile the replanned programs are checked against.
     pub profile: (&'a str, &'a [(&'a str, usize)]),
-    /// Each round's time budget (program units) and tick budget.
+    /// Each round's time budget, in program units.
     pub max_time: i64,
     /// Each round's tick budget.
     pub max_ticks: u64,
