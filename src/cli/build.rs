@@ -637,13 +637,14 @@ fn run_with_recovery(
         recover::Verdict::NoPlan { problem: replanned, failure, stats } => {
             let options = options();
             let task = crate::passes::task::build(&frontend.kb, *replanned);
-            let search = super::plan::failure_diagnostic(
+            let search = crate::planner::failure_diagnostic(
                 &frontend.kb,
                 &frontend.interner,
                 &task,
                 &problem_name(*replanned),
                 failure,
                 stats,
+                &super::plan::stats_line(stats),
                 &options,
             );
             diagnostics.push(

@@ -13,7 +13,9 @@
 use std::fmt;
 use std::time::Duration;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
+
+pub use crate::draft::Message;
 
 /// Where the model is.
 #[derive(Clone)]
@@ -58,22 +60,6 @@ pub struct Retry {
 impl Default for Retry {
     fn default() -> Retry {
         Retry { attempts: 4, first_backoff: Duration::from_millis(500), max_backoff: Duration::from_secs(8) }
-    }
-}
-
-/// One message of a conversation.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Message {
-    /// `system`, `user` or `assistant`.
-    pub role: String,
-    /// The text.
-    pub content: String,
-}
-
-impl Message {
-    /// A message with the given role.
-    pub fn new(role: &str, content: impl Into<String>) -> Message {
-        Message { role: role.to_string(), content: content.into() }
     }
 }
 

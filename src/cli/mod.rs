@@ -20,6 +20,7 @@ use crate::syntax::printer;
 
 mod bench;
 mod build;
+mod draft;
 mod export;
 pub mod llm;
 mod plan;
@@ -81,6 +82,15 @@ enum Command {
     /// Write a problem of the KB for other tools (PDDL 2.1).
     #[command(subcommand)]
     Export(export::ExportCommand),
+    /// Ask a language model for a new test case (or action schemas), checked and repaired.
+    ///
+    /// Shows the model the KB's named test cases as examples (the paper's prompt), asks for a
+    /// new one for the task, then checks the answer: syntax, names, the states (every block in
+    /// one place, `clear` right, known cells and agents) and that the planner solves it. The
+    /// diagnostics go back to the model until the answer passes or `--rounds` are used up.
+    /// Nothing the model writes is run: it is read as data. `kbc draft check` checks an answer
+    /// file; `kbc draft eval` scores models in the paper's Table layout.
+    Draft(draft::DraftArgs),
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -152,6 +162,7 @@ pub fn main() -> ExitCode {
         Command::Build(args) => build::build(args, color),
         Command::Run(args) => build::run(args, color),
         Command::Disasm(args) => build::disasm(args, color),
+        Command::Draft(args) => draft::run(args, color),
         Command::Explain { code } => explain(&code),
         Command::Lsp { stdio: _ } => crate::lsp::run_stdio(),
     }
@@ -168,7 +179,7 @@ impl SourceLoader for FsLoader {
     }
 }
 
-fn io_reason(error: &std::io::Error) -> String {
+pub(crate) fn io_reason(error: &std::io::Error) -> String {
     // "No such file or directory (os error 2)" reads better without the errno.
     let text = error.to_string();
     match text.find(" (os error") {
@@ -177,7 +188,7 @@ fn io_reason(error: &std::io::Error) -> String {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, String> {
+pub(crate) fn read_text(path: &Path) -> Result<String, String> {
     let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
     if bytes.len() > MAX_FILE_LEN {
         return Err("the file is larger than 4 GiB".to_string());
@@ -229,15 +240,15 @@ pub(crate) fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagn
                 let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
                 roots.push(db.add(path.display().to_string(), Some(canonical), text));
             }
-            Err(reason) => {
-                diags.push(Diagnostic::error(
-                    codes::UNREADABLE_FILE,
-                    format!("cannot read `{}`: {reason}", path.display()),
-                ));
-            }
+            Err(reason) => diags.push(unreadable(path, &reason)),
         }
     }
     roots
+}
+
+/// The diagnostic for a file that cannot be read.
+pub(crate) fn unreadable(path: &Path, reason: &str) -> Diagnostic {
+    Diagnostic::error(codes::UNREADABLE_FILE, format!("cannot read `{}`: {reason}", path.display()))
 }
 
 fn check(args: CheckArgs, color: bool) -> ExitCode {

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use clap::ValueEnum;
 
 use super::{MessageFormat, report};
-use crate::diag::{Diagnostic, Diagnostics, codes};
+use crate::diag::{Diagnostic, Diagnostics};
 use crate::driver;
 use crate::ir::hir::{self, Kb, VarTable};
 use crate::ir::plan::{self, Plan};
@@ -21,7 +21,7 @@ use crate::ir::pop::Achiever;
 use crate::ir::schedule;
 use crate::ir::stn::{UNITS, format_time};
 use crate::passes;
-use crate::planner::{self, BudgetKind, Failure, Options, Progress, SearchKind, Stats};
+use crate::planner::{self, Options, Progress, SearchKind, Stats};
 use crate::render;
 use crate::source::SourceDb;
 use crate::validate;
@@ -258,13 +258,14 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
                 }
                 Err(failure) => {
                     let (kb, interner) = (&frontend.kb, &frontend.interner);
-                    diagnostics.push(failure_diagnostic(
+                    diagnostics.push(planner::failure_diagnostic(
                         kb,
                         interner,
                         &task,
                         &name,
                         &failure,
                         &outcome.stats,
+                        &stats_line(&outcome.stats),
                         &options,
                     ));
                     return Err(fail(&db, &diagnostics));
@@ -415,7 +416,7 @@ fn process_peak_bytes() -> Option<u64> {
     Some(kilobytes * 1024)
 }
 
-fn stats_line(stats: &Stats) -> String {
+pub(super) fn stats_line(stats: &Stats) -> String {
     format!(
         "expanded {} {}, generated {}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
@@ -536,52 +537,4 @@ fn plan_json(
         });
     }
     format!("{value}\n")
-}
-
-pub(super) fn failure_diagnostic(
-    kb: &Kb,
-    interner: &crate::intern::Interner,
-    task: &crate::ir::task::Task,
-    problem: &str,
-    failure: &Failure,
-    stats: &Stats,
-    options: &Options,
-) -> Diagnostic {
-    match failure {
-        Failure::Exhausted { depth_limit: Some(limit) } => Diagnostic::error(
-            codes::NO_PLAN,
-            format!("no plan for `{problem}` within the depth limit of {limit} snap actions"),
-        )
-        .with_note(format!("the paper's search tried every plan up to that length: {}", stats_line(stats)))
-        .with_help("raise the limit with `--max-depth`, or use the heuristic search, which has no depth limit"),
-        Failure::Exhausted { depth_limit: None } => {
-            Diagnostic::error(codes::NO_PLAN, format!("no plan exists for `{problem}`"))
-                .with_note(format!("every state reachable from the initial state was explored: {}", stats_line(stats)))
-        }
-        Failure::Budget(kind) => {
-            let (what, help) = match kind {
-                BudgetKind::States => {
-                    (format!("its budget of {} states", options.budget.max_states), "raise `--max-states`")
-                }
-                BudgetKind::Time => (format!("time after {:.1} s", stats.elapsed.as_secs_f64()), "raise `--timeout`"),
-                BudgetKind::Memory => {
-                    (format!("its budget of {} MB of memory", options.budget.max_bytes >> 20), "raise `--max-memory`")
-                }
-            };
-            Diagnostic::error(codes::SEARCH_BUDGET, format!("the search for `{problem}` ran out of {what}"))
-                .with_note(format!("no plan found so far: {}", stats_line(stats)))
-                .with_help(help)
-        }
-        Failure::Unsolvable(diagnostic) => (**diagnostic).clone(),
-        Failure::Condition(error) => {
-            let action = &kb.actions[task.schemas[error.schema].action];
-            let name = interner.resolve(action.name.name());
-            Diagnostic::error(
-                codes::CONDITION_ERROR,
-                format!("proving the OnKB goals of `{name}` failed: {}", error.error.message(interner)),
-            )
-            .primary(action.slots[4], "these goals")
-            .with_note("the search stops, as SWI-Prolog would on an uncaught error")
-        }
-    }
 }

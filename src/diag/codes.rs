@@ -6,7 +6,7 @@
 //! direction (every page is registered) and that every code has a UI test.
 //!
 //! Ranges: E01xx reading and syntax, E02xx structure, names and arities, E03xx planning,
-//! E04xx temporal, E05xx back end, Wxxxx warnings. Codes are never reused.
+//! E04xx temporal, E05xx back end, E06xx drafting (`kbc draft`), Wxxxx warnings. Codes are never reused.
 
 use std::fmt;
 
@@ -139,6 +139,18 @@ codes! {
     UNBOUND_MAPPING = "E0504": "a mapping that leaves a step's variable unbound";
     GOAL_NOT_REACHED = "E0505": "a run whose world does not satisfy the goal";
     CANNOT_RECOVER = "E0506": "a fault the run cannot recover from";
+    // Drafting with a language model (`kbc draft`): states a test case must be.
+    BLOCK_TWO_PLACES = "E0601": "a block in two places in one state";
+    BLOCK_NOWHERE = "E0602": "a block named in a state without a place in it";
+    SUPPORT_ELSEWHERE = "E0603": "a block stacked on a block that is somewhere else";
+    SUPPORT_SHARED = "E0604": "two blocks on one block or one cell";
+    STACK_CYCLE = "E0605": "blocks stacked on each other in a cycle";
+    CLEAR_WRONG = "E0606": "`clear/1` on a covered block, or missing on an uncovered one";
+    UNKNOWN_POSITION = "E0607": "a position the KB's `pos/2` does not know";
+    UNKNOWN_AGENT = "E0608": "an agent the initial state does not have";
+    BLOCKS_DIFFER = "E0609": "initial state and goal over different blocks";
+    NO_CODE = "E0610": "a model's answer without code";
+    NOT_ASKED_FOR = "E0611": "a model's answer that does not hold what was asked for";
     // Warnings.
     SINGLETON_VARIABLE = "W0001": "singleton variable";
     NEVER_PRODUCED = "W0002": "a condition or deletion on a predicate nothing produces";

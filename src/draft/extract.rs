@@ -7,7 +7,7 @@
 //! that ends one, so a sentence before or after it is left out. A fence left open runs to the
 //! end of the answer. Prose is told from code by its first line: after a complete clause, an
 //! unindented line that starts no clause (a sentence starts with a capital letter, which no
-//! clause can).
+//! clause can). Code whose last clause lacks its full stop runs to the end of the answer.
 
 /// Where the code was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,10 +50,12 @@ pub fn extract_code(answer: &str) -> Option<Extracted> {
             break;
         }
     }
-    let last = lines[..end].iter().rposition(|l| ends_clause(l))?;
-    if last < first {
-        return None;
-    }
+    // The code ends with its last full stop; without one (the model forgot it), it runs to
+    // the last non-blank line, and the front end reports the missing `.`.
+    let last = match lines[first..end].iter().rposition(|l| ends_clause(l)) {
+        Some(last) => first + last,
+        None => first + lines[first..end].iter().rposition(|l| !l.trim().is_empty())?,
+    };
     let mut code = lines[first..=last].join("\n");
     code.push('\n');
     Some(Extracted { code, found: Found::Bare })
@@ -136,6 +138,12 @@ mod tests {
         let found = extract_code(answer).unwrap();
         assert_eq!(found.code, "test_case :- go([available(a1)],\n    [available(a1)]). % done\n");
         assert_eq!(found.found, Found::Bare);
+    }
+
+    #[test]
+    fn bare_code_without_its_last_full_stop_runs_to_the_end() {
+        let answer = "test_case :- go([available(a1)],\n  [available(a1)])\n\n";
+        assert_eq!(extract_code(answer).unwrap().code, "test_case :- go([available(a1)],\n  [available(a1)])\n");
     }
 
     #[test]

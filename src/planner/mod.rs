@@ -21,6 +21,7 @@ pub mod timing;
 
 use std::time::{Duration, Instant};
 
+use crate::diag::{Diagnostic, codes};
 use crate::engine::{Machine, Program};
 use crate::ir::hir::Kb;
 use crate::ir::plan::{Plan, Step};
@@ -254,6 +255,58 @@ pub fn search(
     };
     outcome.stats.elapsed = started.elapsed();
     outcome
+}
+
+/// The diagnostic that says why a search for `problem` found no plan; `figures` describes
+/// what the search did (the CLI adds the process's peak memory to `stats`).
+#[allow(clippy::too_many_arguments)]
+pub fn failure_diagnostic(
+    kb: &Kb,
+    interner: &crate::intern::Interner,
+    task: &crate::ir::task::Task,
+    problem: &str,
+    failure: &Failure,
+    stats: &Stats,
+    figures: &str,
+    options: &Options,
+) -> Diagnostic {
+    match failure {
+        Failure::Exhausted { depth_limit: Some(limit) } => Diagnostic::error(
+            codes::NO_PLAN,
+            format!("no plan for `{problem}` within the depth limit of {limit} snap actions"),
+        )
+        .with_note(format!("the paper's search tried every plan up to that length: {}", figures))
+        .with_help("raise the limit with `--max-depth`, or use the heuristic search, which has no depth limit"),
+        Failure::Exhausted { depth_limit: None } => {
+            Diagnostic::error(codes::NO_PLAN, format!("no plan exists for `{problem}`"))
+                .with_note(format!("every state reachable from the initial state was explored: {}", figures))
+        }
+        Failure::Budget(kind) => {
+            let (what, help) = match kind {
+                BudgetKind::States => {
+                    (format!("its budget of {} states", options.budget.max_states), "raise `--max-states`")
+                }
+                BudgetKind::Time => (format!("time after {:.1} s", stats.elapsed.as_secs_f64()), "raise `--timeout`"),
+                BudgetKind::Memory => {
+                    (format!("its budget of {} MB of memory", options.budget.max_bytes >> 20), "raise `--max-memory`")
+                }
+            };
+            Diagnostic::error(codes::SEARCH_BUDGET, format!("the search for `{problem}` ran out of {what}"))
+                .with_note(format!("no plan found so far: {}", figures))
+                .with_help(help)
+        }
+        Failure::Unsolvable(diagnostic) => (**diagnostic).clone(),
+        Failure::Condition(error) => {
+            let action = &kb.actions[task.schemas[error.schema].action];
+            let name = interner.resolve(action.name.name());
+            Diagnostic::error(
+                codes::CONDITION_ERROR,
+                format!("proving the OnKB goals of `{name}` failed: {}", error.error.message(interner)),
+            )
+            .primary(action.slots[4], "these goals")
+            .with_note("the search stops, as SWI-Prolog would on an uncaught error")
+        }
+    }
 }
 
 /// Turns the applicable actions along a path into a plan.

@@ -1,0 +1,331 @@
+//! Checking one answer of a model: the code is extracted, read by the front end together with
+//! the KB, its states checked ([`super::state`]) and, for a test case, planned. The result is
+//! the diagnostics that concern the draft, which the repair loop feeds back to the model.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use super::Want;
+use super::extract::extract_code;
+use super::state::{self, Vocabulary};
+use crate::diag::{Diagnostic, Diagnostics, codes, plural};
+use crate::driver;
+use crate::intern::Interner;
+use crate::ir::hir::{self, Kb, Problem};
+use crate::passes::load::SourceLoader;
+use crate::planner::{self, Budget, Options, SearchKind, Silent};
+use crate::source::{FileId, SourceDb, Span};
+
+/// A file of the KB a draft is checked against.
+#[derive(Clone, Debug)]
+pub struct KbFile {
+    /// The name diagnostics show.
+    pub name: String,
+    /// Where it is, for resolving its includes.
+    pub path: Option<PathBuf>,
+    /// Its text.
+    pub text: String,
+}
+
+/// A state fact, printed: its predicate and its arguments.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Fact {
+    /// The predicate's name.
+    pub name: String,
+    /// Each argument as Prolog text.
+    pub args: Vec<String>,
+}
+
+/// A test case's two states as facts, in the order written.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct States {
+    /// The initial state.
+    pub init: Vec<Fact>,
+    /// The goal.
+    pub goal: Vec<Fact>,
+}
+
+/// What checking one answer found.
+pub struct Checked {
+    /// The KB's files and the draft (the draft last), for rendering the diagnostics.
+    pub db: SourceDb,
+    /// The code found in the answer.
+    pub code: Option<String>,
+    /// The problems found in the draft (none in the KB alone: the KB is checked before).
+    pub diagnostics: Diagnostics,
+    /// The drafted test case's states, when the front end could read one (even with errors).
+    pub states: Option<States>,
+    /// The length of the plan found for the test case, when it was planned.
+    pub plan_steps: Option<usize>,
+}
+
+impl Checked {
+    /// Whether the draft passed every check.
+    pub fn passed(&self) -> bool {
+        self.code.is_some() && !self.diagnostics.has_errors()
+    }
+}
+
+/// How much work checking an answer may do.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// The most states the planner expands to show a test case solvable.
+    pub max_states: u64,
+    /// The longest the planner searches.
+    pub plan_time: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits { max_states: 200_000, plan_time: Duration::from_secs(10) }
+    }
+}
+
+/// Checks answers against one KB.
+pub struct Checker<'a> {
+    kb: &'a [KbFile],
+    loader: &'a mut dyn SourceLoader,
+    want: Want,
+    limits: Limits,
+    /// Whether the KB alone is planned in the standard blocks world (it has no actions of its
+    /// own); drafted actions then extend that domain instead of replacing it.
+    extends_std: Option<bool>,
+}
+
+impl<'a> Checker<'a> {
+    /// A checker for drafts of `want` against the KB files `kb` (their includes read through
+    /// `loader`).
+    pub fn new(kb: &'a [KbFile], loader: &'a mut dyn SourceLoader, want: Want, limits: Limits) -> Checker<'a> {
+        Checker { kb, loader, want, limits, extends_std: None }
+    }
+
+    /// What is asked for.
+    pub fn want(&self) -> &Want {
+        &self.want
+    }
+
+    /// Runs the front end on the KB alone: the KB must be free of errors before a model is
+    /// asked to extend it. Returns the database and the front end's result.
+    pub fn kb_alone(&mut self) -> (SourceDb, driver::Frontend) {
+        let mut db = SourceDb::new();
+        let roots = self.add_kb(&mut db);
+        let frontend = driver::frontend(&mut db, &roots, self.loader);
+        (db, frontend)
+    }
+
+    fn add_kb(&self, db: &mut SourceDb) -> Vec<FileId> {
+        self.kb.iter().map(|f| db.add(f.name.clone(), f.path.clone(), f.text.clone())).collect()
+    }
+
+    /// The KB's files for checking a draft: for drafted actions over a KB that relies on the
+    /// standard blocks world, that world's files first (a file with actions of its own would
+    /// otherwise stand in for it).
+    fn add_kb_for_draft(&mut self, db: &mut SourceDb) -> Vec<FileId> {
+        if self.want == Want::Actions && self.extends_std.is_none() {
+            let (_, frontend) = self.kb_alone();
+            self.extends_std = Some(frontend.kb.uses_std_domain);
+        }
+        let mut roots = Vec::new();
+        if self.want == Want::Actions && self.extends_std == Some(true) {
+            roots.push(db.add(driver::STD_ARMS_NAME, None, driver::STD_ARMS));
+            roots.push(db.add(driver::STD_BLOCKS_NAME, None, driver::STD_BLOCKS));
+        }
+        roots.extend(self.add_kb(db));
+        roots
+    }
+
+    /// Checks one answer.
+    pub fn check(&mut self, answer: &str) -> Checked {
+        let mut db = SourceDb::new();
+        let mut diagnostics = Diagnostics::new();
+        let Some(extracted) = extract_code(answer) else {
+            diagnostics.push(
+                Diagnostic::error(codes::NO_CODE, "the answer holds no Prolog code")
+                    .with_note(format!("the answer begins: {}", excerpt(answer)))
+                    .with_help("answer with Prolog clauses only, in a ```prolog fence or bare"),
+            );
+            return Checked { db, code: None, diagnostics, states: None, plan_steps: None };
+        };
+        let mut roots = self.add_kb_for_draft(&mut db);
+        let draft = db.add(self.want.file_name(), None, extracted.code.clone());
+        roots.push(draft);
+        let frontend = driver::frontend(&mut db, &roots, self.loader);
+        for diagnostic in frontend.diagnostics.iter() {
+            let in_draft = diagnostic.labels.iter().any(|l| l.span.file == draft);
+            if diagnostic.code.is_some() && (in_draft || diagnostic.labels.is_empty() && diagnostic.is_error()) {
+                diagnostics.push(diagnostic.clone());
+            }
+        }
+        let (kb, interner) = (&frontend.kb, &frontend.interner);
+        let mut checked = Checked { db, code: Some(extracted.code), diagnostics, states: None, plan_steps: None };
+        match &self.want {
+            Want::TestCase { name } => {
+                let problem = self.the_problem(kb, interner, draft, name, &mut checked.diagnostics);
+                only_test_cases(&frontend, kb, draft, &mut checked.diagnostics);
+                if let Some(index) = problem {
+                    checked.states = Some(states_of(interner, &kb.problems[index]));
+                    if !checked.diagnostics.has_errors() {
+                        if let Some(vocabulary) = Vocabulary::of(kb, interner) {
+                            let program = planner::program_for(kb, index);
+                            state::check_problem(
+                                &vocabulary,
+                                &kb.problems[index],
+                                &program,
+                                interner,
+                                &mut checked.diagnostics,
+                            );
+                        }
+                    }
+                    if !checked.diagnostics.has_errors() {
+                        checked.plan_steps = self.plan(kb, interner, index, &mut checked.diagnostics);
+                    }
+                }
+            }
+            Want::Actions => {
+                let count = kb.actions.iter().filter(|a| a.span.file == draft).count();
+                if count == 0 && !checked.diagnostics.has_errors() {
+                    checked.diagnostics.push(
+                        Diagnostic::error(codes::NOT_ASKED_FOR, "the answer defines no action schema")
+                            .primary(Span::new(draft, 0, 0), "the answer's code starts here")
+                            .with_help(
+                                "write each action as `action(Name, Valid, Invalid, InvalidAtEnd, OnKB, Effects).`",
+                            ),
+                    );
+                }
+            }
+        }
+        checked.diagnostics.sort_by_position();
+        checked
+    }
+
+    /// The drafted test case: the one problem of the draft file, named `name`.
+    fn the_problem(
+        &self,
+        kb: &Kb,
+        interner: &Interner,
+        draft: FileId,
+        name: &str,
+        diagnostics: &mut Diagnostics,
+    ) -> Option<usize> {
+        let drafted: Vec<usize> = (0..kb.problems.len()).filter(|&i| kb.problems[i].span.file == draft).collect();
+        let start = Span::new(draft, 0, 0);
+        match drafted.as_slice() {
+            [] => {
+                if !diagnostics.has_errors() {
+                    diagnostics.push(
+                        Diagnostic::error(codes::NOT_ASKED_FOR, format!("the answer defines no test case `{name}`"))
+                            .primary(start, "the answer's code starts here")
+                            .with_help(format!("write it as `{name} :- go(InitialState, GoalState).`")),
+                    );
+                }
+                None
+            }
+            [index] => {
+                let problem = &kb.problems[*index];
+                let written = interner.resolve(problem.name);
+                if written != name {
+                    diagnostics.push(
+                        Diagnostic::error(
+                            codes::NOT_ASKED_FOR,
+                            format!("the test case is named `{written}`, not `{name}` as asked"),
+                        )
+                        .primary(problem.name_span, "this name")
+                        .with_fix(format!("rename it `{name}`"), problem.name_span, name),
+                    );
+                }
+                Some(*index)
+            }
+            [first, rest @ ..] => {
+                let mut diagnostic = Diagnostic::error(
+                    codes::NOT_ASKED_FOR,
+                    format!("the answer defines {}; one was asked for", plural(drafted.len(), "test case")),
+                )
+                .primary(kb.problems[rest[0]].name_span, "another test case");
+                diagnostic = diagnostic.secondary(kb.problems[*first].name_span, "the first");
+                diagnostics.push(diagnostic.with_help(format!("answer with the one test case `{name}` only")));
+                drafted.iter().copied().find(|&i| interner.resolve(kb.problems[i].name) == name).or(Some(*first))
+            }
+        }
+    }
+
+    /// Plans the test case; a failure becomes the planner's diagnostic.
+    fn plan(&self, kb: &Kb, interner: &Interner, index: usize, diagnostics: &mut Diagnostics) -> Option<usize> {
+        let mut task = crate::passes::task::build(kb, index);
+        let options = Options {
+            search: SearchKind::Heuristic,
+            budget: Budget {
+                max_states: self.limits.max_states,
+                deadline: Some(Instant::now() + self.limits.plan_time),
+                ..Budget::default()
+            },
+            ..Options::default()
+        };
+        let outcome = planner::search(kb, interner, &mut task, &options, &mut Silent);
+        match outcome.result {
+            Ok(plan) => Some(plan.steps.len()),
+            Err(failure) => {
+                let name = interner.resolve(kb.problems[index].name).to_string();
+                let stats = &outcome.stats;
+                let figures =
+                    format!("expanded {}, generated {}", plural(stats.expanded as usize, "state"), stats.generated);
+                let diagnostic =
+                    planner::failure_diagnostic(kb, interner, &task, &name, &failure, stats, &figures, &options);
+                let located = diagnostic.labels.is_empty();
+                diagnostics.push(if located {
+                    diagnostic.primary(kb.problems[index].span, "this test case")
+                } else {
+                    diagnostic
+                });
+                None
+            }
+        }
+    }
+}
+
+/// A test case answer holds test cases and nothing else: no facts, rules or directives that
+/// would change the KB (or run something when the file is consulted by a Prolog system).
+fn only_test_cases(frontend: &driver::Frontend, kb: &Kb, draft: FileId, diagnostics: &mut Diagnostics) {
+    let Some(ast) = frontend.loaded.files.iter().find(|f| f.file == draft) else { return };
+    for clause in &ast.clauses {
+        let is_problem = kb.problems.iter().any(|p| {
+            p.span.file == draft
+                && p.span.start >= clause.span.start
+                && p.span.start < clause.span.end.max(clause.span.start + 1)
+        });
+        if !is_problem && !clause.recovered {
+            diagnostics.push(
+                Diagnostic::error(codes::NOT_ASKED_FOR, "the answer holds more than the test case")
+                    .primary(clause.span, "not part of a test case")
+                    .with_fix("remove this clause", clause.span, "")
+                    .with_help(
+                        "answer with the test case clause only: the KB already has its facts, rules and directives",
+                    ),
+            );
+        }
+    }
+}
+
+/// The problem's states as printed facts.
+pub fn states_of(interner: &Interner, problem: &Problem) -> States {
+    let facts = |literals: &[hir::Literal]| {
+        literals
+            .iter()
+            .map(|l| {
+                let name = interner.resolve(l.name()).to_string();
+                let args = l.term.args().iter().map(|a| hir::term_to_string(interner, a, &problem.vars)).collect();
+                Fact { name, args }
+            })
+            .collect()
+    };
+    States { init: facts(&problem.init), goal: facts(&problem.goal) }
+}
+
+/// The first line of `text`, shortened.
+fn excerpt(text: &str) -> String {
+    let line = text.trim().lines().next().unwrap_or("");
+    if text.trim().is_empty() {
+        return "(nothing: the answer is empty)".to_string();
+    }
+    let short: String = line.chars().take(60).collect();
+    if short.len() < line.len() { format!("\"{short}...\"") } else { format!("\"{short}\"") }
+}

@@ -1,0 +1,2 @@
+% ui: kbc draft check $CASE
+I am sorry, but I cannot write that test case.

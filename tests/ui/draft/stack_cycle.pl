@@ -1,0 +1,5 @@
+% ui: kbc draft check $CASE
+test_case :- go(
+  [available(a1), ontable(b1, 1, 1), ontable(b2, 2, 2), clear(b1), clear(b2)],
+  [available(a1), on(b1, b2, 3, 3), on(b2, b1, 3, 3)]
+).
