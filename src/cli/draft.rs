@@ -68,8 +68,9 @@ struct AskArgs {
     /// Write the checked result to this file (atomically); without it, print it on stdout.
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
-    /// How to print diagnostics.
-    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    /// How to print diagnostics: for people, or one JSON object per line on stdout (which
+    /// then needs `-o` for the result).
+    #[arg(long, value_enum, default_value_t = MessageFormat::Human, requires_if("json", "output"))]
     message_format: MessageFormat,
 }
 
