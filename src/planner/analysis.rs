@@ -243,6 +243,14 @@ struct Explainer<'a, 'p> {
 }
 
 impl Explainer<'_, '_> {
+    /// Adds a label, once: two explanation chains through the same condition with the same
+    /// instance would otherwise label it twice.
+    fn label(&mut self, span: crate::source::Span, message: String) {
+        if !self.labels.iter().any(|(s, m)| *s == span && *m == message) {
+            self.labels.push((span, message));
+        }
+    }
+
     /// Explains why no reachable fact matches `pred(target)`, whose variables are named by
     /// `vars`; `depth` bounds the recursion.
     fn why(&mut self, task: &mut Task, pred: PredId, target: &[Term], vars: &hir::VarTable, depth: usize) {
@@ -286,7 +294,7 @@ impl Explainer<'_, '_> {
                 self.notes.push(format!(
                     "`{action_name}` would add `{shown}`, but needs `{literal_shown}`, which no reachable state has"
                 ));
-                self.labels.push((literal.span, format!("`{literal_shown}` is never reached")));
+                self.label(literal.span, format!("`{literal_shown}` is never reached"));
                 if depth > 0 {
                     let args: Vec<Term> = term.args().to_vec();
                     let vars = action.vars.clone();
@@ -300,12 +308,12 @@ impl Explainer<'_, '_> {
                 self.notes.push(format!(
                     "`{action_name}` would add `{shown}`, but its OnKB goal `{goal_shown}` is not provable from the KB"
                 ));
-                self.labels.push((goal.span, format!("`{goal_shown}` is not provable")));
+                self.label(goal.span, format!("`{goal_shown}` is not provable"));
                 return;
             }
             self.notes
                 .push(format!("`{action_name}` would add `{shown}`, but its conditions never hold together for it"));
-            self.labels.push((action.name.span, "never applicable for this".to_string()));
+            self.label(action.name.span, "never applicable for this".to_string());
             return;
         }
     }
