@@ -92,10 +92,7 @@ fn session(text: &str, debounce: Option<u64>) -> Vec<Duration> {
         None => json!({}),
     };
     let mut client = client::Client::start(&dir, options);
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
-    );
+    client.open(&uri, text);
     let initial = client.diagnostics(&uri);
     assert!(initial.is_empty(), "the generated KB checks clean: {:?}", initial.first());
     // `clear(B)` of the middle action's Valid list: `c|lear` becomes `cxlear` and back.

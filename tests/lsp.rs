@@ -55,10 +55,7 @@ fn a_scripted_editing_session() {
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
 
     // Open a file with an error: its diagnostic arrives, with the code and the fix's hint.
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": KB } }),
-    );
+    client.open(&uri, KB);
     let published = client.published(&uri);
     assert_eq!(published["version"], 1);
     let diagnostics = published["diagnostics"].as_array().unwrap().clone();
@@ -213,10 +210,7 @@ fn malformed_requests_get_errors_and_the_server_carries_on() {
     let error = client.request("textDocument/frobnicate", json!({})).unwrap_err();
     assert_eq!(error.code, -32601, "{error:?}");
     // Positions far outside the file and requests on files never opened answer nothing.
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": "on(a, b" } }),
-    );
+    client.open(&uri, "on(a, b");
     let diagnostics = client.diagnostics(&uri);
     assert!(!diagnostics.is_empty(), "a syntax error is reported");
     let hover = client
@@ -271,10 +265,7 @@ fn the_files_of_a_folder_are_checked_together() {
     std::fs::write(dir.join("goals.pl"), goals).unwrap();
     let goals_uri = uri(&dir.join("goals.pl"));
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": goals_uri, "languageId": "prolog", "version": 1, "text": goals } }),
-    );
+    client.open(&goals_uri, goals);
     // Checked with domain.pl, so `held/1` is known: no diagnostics.
     assert_eq!(client.diagnostics(&goals_uri), Vec::<Value>::new());
     // Misspell a predicate of the goal: the unit is re-checked and domain.pl's names suggested.
@@ -302,10 +293,7 @@ fn the_files_of_a_folder_are_checked_together() {
     // Every file the unit read had its (empty) diagnostics published; skip to the new ones.
     assert!(client.backlog.iter().any(|n| n.params["uri"] == part_uri.as_str()));
     client.backlog.clear();
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": part_uri, "languageId": "prolog", "version": 1, "text": "spot(1).\nspot(2)\n" } }),
-    );
+    client.open(&part_uri, "spot(1).\nspot(2)\n");
     let diagnostics = client.diagnostics(&part_uri);
     assert_eq!(diagnostics.len(), 1, "{diagnostics:#?}");
     assert_eq!(codes(&diagnostics), ["E0102"], "{diagnostics:#?}");
@@ -408,10 +396,7 @@ fn quick_fixes_apply_and_the_file_is_rechecked() {
         let dir = scratch(&format!("fix-{name}"));
         let uri = uri(&dir.join("kb.pl"));
         let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
-        client.notify(
-            "textDocument/didOpen",
-            json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
-        );
+        client.open(&uri, &text);
         let diagnostics = client.diagnostics(&uri);
         let diagnostic = diagnostics
             .iter()
@@ -467,10 +452,7 @@ fn mappings_navigate_both_ways() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/05_arm_refinement/kb.pl")).unwrap();
     let uri = uri(&dir.join("kb.pl"));
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": text } }),
-    );
+    client.open(&uri, &text);
     assert_eq!(client.diagnostics(&uri), Vec::<Value>::new());
     let at = |needle: &str, extra: u32| at(&uri, &text, needle, extra);
     let line = |needle: &str| position_of(&text, needle, 0)["line"].as_u64().unwrap();
@@ -585,10 +567,7 @@ fn random_edits_keep_the_server_in_step_with_the_client() {
     let uri = uri(&dir.join("kb.pl"));
     let mut rng = kbvm::sim::Rng::new(7);
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
-    client.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": uri, "languageId": "prolog", "version": 1, "text": KB } }),
-    );
+    client.open(&uri, KB);
     client.diagnostics(&uri);
     let mut text = KB.to_string();
     for version in 2..200 {
@@ -626,10 +605,7 @@ fn random_edits_keep_the_server_in_step_with_the_client() {
     let fresh_dir = scratch("random-fresh");
     let fresh_uri = crate::uri(&fresh_dir.join("kb.pl"));
     let mut fresh = Client::start(&fresh_dir, json!({ "debounceMs": 0 }));
-    fresh.notify(
-        "textDocument/didOpen",
-        json!({ "textDocument": { "uri": fresh_uri, "languageId": "prolog", "version": 1, "text": text } }),
-    );
+    fresh.open(&fresh_uri, &text);
     let expected = fresh.diagnostics(&fresh_uri);
     assert!(fresh.shutdown());
     let strip = |diagnostics: Vec<Value>| -> Vec<Value> {

@@ -59,6 +59,12 @@ impl Client {
         self.connection.sender.send(Notification::new(method.to_string(), params).into()).expect("server alive");
     }
 
+    /// Opens a Prolog document at version 1.
+    pub fn open(&mut self, uri: &str, text: &str) {
+        let document = serde_json::json!({ "uri": uri, "languageId": "prolog", "version": 1, "text": text });
+        self.notify("textDocument/didOpen", serde_json::json!({ "textDocument": document }));
+    }
+
     /// Waits for the next `publishDiagnostics` for `uri` and returns its diagnostics.
     pub fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
         self.published(uri)["diagnostics"].as_array().cloned().unwrap_or_default()
