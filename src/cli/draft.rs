@@ -9,11 +9,12 @@ use std::time::Duration;
 
 use super::llm::{Client, Endpoint, Retry};
 use super::{FsLoader, MessageFormat, report};
-use crate::diag::{Diagnostic, Diagnostics, codes, plural};
+use crate::diag::{Code, Diagnostics, plural};
 use crate::draft::check::{Checked, Checker, KbFile, Limits, States};
 use crate::draft::eval::{self, Row};
 use crate::draft::repair::{self, Drafted, Ending};
 use crate::draft::{Message, Model, Recorded, Want, prompt};
+use crate::driver::Frontend;
 use crate::source::SourceDb;
 
 #[derive(clap::Args)]
@@ -161,27 +162,32 @@ pub(super) fn run(args: DraftArgs, color: bool) -> ExitCode {
     }
 }
 
-/// Reads KB files; unreadable ones become diagnostics.
+/// Reads KB files (as every command reads its files); unreadable ones become diagnostics.
 fn read_kb(paths: &[PathBuf], diagnostics: &mut Diagnostics) -> Vec<KbFile> {
-    let mut files = Vec::new();
-    for path in paths {
-        match super::read_text(path) {
-            Ok(text) => files.push(KbFile {
-                name: path.display().to_string(),
-                path: Some(std::fs::canonicalize(path).unwrap_or_else(|_| path.clone())),
-                text,
-            }),
-            Err(reason) => diagnostics
-                .push(Diagnostic::error(codes::UNREADABLE_FILE, format!("cannot read `{}`: {reason}", path.display()))),
-        }
-    }
-    files
+    let mut db = SourceDb::new();
+    let roots = super::read_roots(paths, &mut db, diagnostics);
+    roots
+        .into_iter()
+        .map(|id| {
+            let file = db.file(id);
+            KbFile {
+                name: file.name().to_string(),
+                path: file.path().map(Path::to_path_buf),
+                text: file.text().to_string(),
+            }
+        })
+        .collect()
 }
 
-/// The KB's own errors, which must be fixed before anything is drafted against it.
-fn kb_errors(checker: &mut Checker<'_>) -> Option<(SourceDb, Diagnostics)> {
+/// The front end on the KB alone: its errors must be fixed before anything is drafted against
+/// it, and are printed (exit status 1) when there are any.
+fn clean_kb(checker: &mut Checker<'_>, format: MessageFormat, color: bool) -> Result<(SourceDb, Frontend), ExitCode> {
     let (db, frontend) = checker.kb_alone();
-    frontend.diagnostics.has_errors().then_some((db, frontend.diagnostics))
+    if frontend.diagnostics.has_errors() {
+        eprintln!("error: the KB has errors; fix them before drafting against it");
+        return Err(super::fail(&db, &frontend.diagnostics, format, color));
+    }
+    Ok((db, frontend))
 }
 
 fn run_check(args: CheckArgs, color: bool) -> ExitCode {
@@ -204,8 +210,8 @@ fn run_check(args: CheckArgs, color: bool) -> ExitCode {
     let mut loader = FsLoader;
     let limits = Limits { max_states: args.max_states, ..Limits::default() };
     let mut checker = Checker::new(&kb, &mut loader, args.what.want(&args.name), limits);
-    if let Some((db, diagnostics)) = kb_errors(&mut checker) {
-        return super::fail(&db, &diagnostics, args.message_format, color);
+    if let Err(code) = clean_kb(&mut checker, args.message_format, color) {
+        return code;
     }
     let checked = checker.check(&answer);
     report(&checked.db, &checked.diagnostics, args.message_format, color);
@@ -278,11 +284,10 @@ fn run_ask(args: AskArgs, color: bool) -> ExitCode {
     let want = args.what.want(&args.name);
     let limits = Limits { max_states: args.model.max_states, ..Limits::default() };
     let mut checker = Checker::new(&kb, &mut loader, want.clone(), limits);
-    let (db, frontend) = checker.kb_alone();
-    if frontend.diagnostics.has_errors() {
-        eprintln!("error: the KB has errors; fix them before drafting against it");
-        return super::fail(&db, &frontend.diagnostics, args.message_format, color);
-    }
+    let (db, frontend) = match clean_kb(&mut checker, args.message_format, color) {
+        Ok(kb) => kb,
+        Err(code) => return code,
+    };
     let examples = match want {
         Want::TestCase { .. } => prompt::test_case_examples(&db, &frontend.kb),
         Want::Actions => prompt::action_examples(&db, &frontend.kb),
@@ -356,12 +361,12 @@ fn print_rounds(drafted: &Drafted, format: MessageFormat, color: bool) {
         let errors = checked.diagnostics.error_count();
         let mut line = format!("round {}: ", i + 1);
         if !round.fixed.is_empty() {
-            line.push_str(&format!("fixed {}: {}; ", round.fixed.len(), codes_of(&round.fixed)));
+            line.push_str(&format!("fixed {}: {}; ", round.fixed.len(), codes_of(round.fixed.iter().map(|m| m.code))));
         }
         if checked.passed() {
             line.push_str(&passed_line(checked));
         } else {
-            line.push_str(&format!("{} ({})", plural(errors, "error"), codes_of(&round.new)));
+            line.push_str(&format!("{} ({})", plural(errors, "error"), codes_of(round.new.iter().map(|m| m.code))));
         }
         eprintln!("{line}");
         if !checked.passed() {
@@ -370,9 +375,10 @@ fn print_rounds(drafted: &Drafted, format: MessageFormat, color: bool) {
     }
 }
 
-/// `E0601, E0606` from `CODE: message` lines.
-fn codes_of(problems: &[String]) -> String {
-    let mut codes: Vec<&str> = problems.iter().map(|p| p.split(':').next().unwrap_or("")).collect();
+/// `E0601, E0606`: the codes, sorted, each once; `none new` for none.
+fn codes_of(codes: impl Iterator<Item = Option<Code>>) -> String {
+    let mut codes: Vec<&str> = codes.flatten().map(Code::as_str).collect();
+    codes.sort_unstable();
     codes.dedup();
     if codes.is_empty() { "none new".to_string() } else { codes.join(", ") }
 }
@@ -418,10 +424,10 @@ fn run_eval(args: EvalArgs, color: bool) -> ExitCode {
     let limits = Limits { max_states: args.model.max_states, ..Limits::default() };
     let want = Want::TestCase { name: "test_case".to_string() };
     let mut checker = Checker::new(&kb, &mut loader, want, limits);
-    let (db, frontend) = checker.kb_alone();
-    if frontend.diagnostics.has_errors() {
-        return super::fail(&db, &frontend.diagnostics, MessageFormat::Human, color);
-    }
+    let (db, frontend) = match clean_kb(&mut checker, MessageFormat::Human, color) {
+        Ok(kb) => kb,
+        Err(code) => return code,
+    };
     let examples = prompt::test_case_examples(&db, &frontend.kb);
     let cases = match read_cases(dir, &mut checker) {
         Ok(cases) => cases,
@@ -520,7 +526,12 @@ fn case_line(drafted: &Drafted, first_right: bool, end_right: bool) -> String {
         if round.checked.passed() {
             if right { "right".to_string() } else { "passed the checks, differs from the reference".to_string() }
         } else {
-            format!("{} ({})", plural(round.checked.diagnostics.error_count(), "error"), codes_of_round(round))
+            let errors = round.checked.diagnostics.iter().filter(|d| d.is_error());
+            format!(
+                "{} ({})",
+                plural(round.checked.diagnostics.error_count(), "error"),
+                codes_of(errors.map(|d| d.code))
+            )
         }
     };
     let Some(first) = drafted.rounds.first() else { return "no answer".to_string() };
@@ -533,14 +544,6 @@ fn case_line(drafted: &Drafted, first_right: bool, end_right: bool) -> String {
         line.push_str(&format!("; then: {why}"));
     }
     line
-}
-
-fn codes_of_round(round: &repair::Round) -> String {
-    let mut codes: Vec<&str> =
-        round.checked.diagnostics.iter().filter(|d| d.is_error()).filter_map(|d| d.code.map(|c| c.as_str())).collect();
-    codes.sort();
-    codes.dedup();
-    codes.join(", ")
 }
 
 /// The cases of `dir`, each folder with a task and a reference, in name order. A reference

@@ -60,9 +60,9 @@ pub struct Checked {
 }
 
 impl Checked {
-    /// Whether the draft passed every check.
+    /// Whether the draft passed every check (an answer without code has E0610).
     pub fn passed(&self) -> bool {
-        self.code.is_some() && !self.diagnostics.has_errors()
+        !self.diagnostics.has_errors()
     }
 }
 
@@ -87,16 +87,20 @@ pub struct Checker<'a> {
     loader: &'a mut dyn SourceLoader,
     want: Want,
     limits: Limits,
-    /// Whether the KB alone is planned in the standard blocks world (it has no actions of its
-    /// own); drafted actions then extend that domain instead of replacing it.
-    extends_std: Option<bool>,
+    /// Drafted actions over a KB that relies on the standard blocks world (it has no actions
+    /// of its own) extend that world instead of replacing it.
+    extends_std: bool,
 }
 
 impl<'a> Checker<'a> {
     /// A checker for drafts of `want` against the KB files `kb` (their includes read through
     /// `loader`).
     pub fn new(kb: &'a [KbFile], loader: &'a mut dyn SourceLoader, want: Want, limits: Limits) -> Checker<'a> {
-        Checker { kb, loader, want, limits, extends_std: None }
+        let mut checker = Checker { kb, loader, want, limits, extends_std: false };
+        if checker.want == Want::Actions {
+            checker.extends_std = checker.kb_alone().1.kb.uses_std_domain;
+        }
+        checker
     }
 
     /// What is asked for.
@@ -117,16 +121,12 @@ impl<'a> Checker<'a> {
         self.kb.iter().map(|f| db.add(f.name.clone(), f.path.clone(), f.text.clone())).collect()
     }
 
-    /// The KB's files for checking a draft: for drafted actions over a KB that relies on the
-    /// standard blocks world, that world's files first (a file with actions of its own would
-    /// otherwise stand in for it).
-    fn add_kb_for_draft(&mut self, db: &mut SourceDb) -> Vec<FileId> {
-        if self.want == Want::Actions && self.extends_std.is_none() {
-            let (_, frontend) = self.kb_alone();
-            self.extends_std = Some(frontend.kb.uses_std_domain);
-        }
+    /// The KB's files for checking a draft: the standard blocks world's files first when
+    /// drafted actions extend it (a file with actions of its own would otherwise stand in for
+    /// it).
+    fn add_kb_for_draft(&self, db: &mut SourceDb) -> Vec<FileId> {
         let mut roots = Vec::new();
-        if self.want == Want::Actions && self.extends_std == Some(true) {
+        if self.extends_std {
             roots.push(db.add(driver::STD_ARMS_NAME, None, driver::STD_ARMS));
             roots.push(db.add(driver::STD_BLOCKS_NAME, None, driver::STD_BLOCKS));
         }
@@ -160,7 +160,7 @@ impl<'a> Checker<'a> {
         let mut checked = Checked { db, code: Some(extracted.code), diagnostics, states: None, plan_steps: None };
         match &self.want {
             Want::TestCase { name } => {
-                let problem = self.the_problem(kb, interner, draft, name, &mut checked.diagnostics);
+                let problem = the_problem(kb, interner, draft, name, &mut checked.diagnostics);
                 only_test_cases(&frontend, kb, draft, &mut checked.diagnostics);
                 if let Some(index) = problem {
                     checked.states = Some(states_of(interner, &kb.problems[index]));
@@ -186,7 +186,7 @@ impl<'a> Checker<'a> {
                 if count == 0 && !checked.diagnostics.has_errors() {
                     checked.diagnostics.push(
                         Diagnostic::error(codes::NOT_ASKED_FOR, "the answer defines no action schema")
-                            .primary(Span::new(draft, 0, 0), "the answer's code starts here")
+                            .primary(Span::point(draft, 0), "the answer's code starts here")
                             .with_help(
                                 "write each action as `action(Name, Valid, Invalid, InvalidAtEnd, OnKB, Effects).`",
                             ),
@@ -196,56 +196,6 @@ impl<'a> Checker<'a> {
         }
         checked.diagnostics.sort_by_position();
         checked
-    }
-
-    /// The drafted test case: the one problem of the draft file, named `name`.
-    fn the_problem(
-        &self,
-        kb: &Kb,
-        interner: &Interner,
-        draft: FileId,
-        name: &str,
-        diagnostics: &mut Diagnostics,
-    ) -> Option<usize> {
-        let drafted: Vec<usize> = (0..kb.problems.len()).filter(|&i| kb.problems[i].span.file == draft).collect();
-        let start = Span::new(draft, 0, 0);
-        match drafted.as_slice() {
-            [] => {
-                if !diagnostics.has_errors() {
-                    diagnostics.push(
-                        Diagnostic::error(codes::NOT_ASKED_FOR, format!("the answer defines no test case `{name}`"))
-                            .primary(start, "the answer's code starts here")
-                            .with_help(format!("write it as `{name} :- go(InitialState, GoalState).`")),
-                    );
-                }
-                None
-            }
-            [index] => {
-                let problem = &kb.problems[*index];
-                let written = interner.resolve(problem.name);
-                if written != name {
-                    diagnostics.push(
-                        Diagnostic::error(
-                            codes::NOT_ASKED_FOR,
-                            format!("the test case is named `{written}`, not `{name}` as asked"),
-                        )
-                        .primary(problem.name_span, "this name")
-                        .with_fix(format!("rename it `{name}`"), problem.name_span, name),
-                    );
-                }
-                Some(*index)
-            }
-            [first, rest @ ..] => {
-                let mut diagnostic = Diagnostic::error(
-                    codes::NOT_ASKED_FOR,
-                    format!("the answer defines {}; one was asked for", plural(drafted.len(), "test case")),
-                )
-                .primary(kb.problems[rest[0]].name_span, "another test case");
-                diagnostic = diagnostic.secondary(kb.problems[*first].name_span, "the first");
-                diagnostics.push(diagnostic.with_help(format!("answer with the one test case `{name}` only")));
-                drafted.iter().copied().find(|&i| interner.resolve(kb.problems[i].name) == name).or(Some(*first))
-            }
-        }
     }
 
     /// Plans the test case; a failure becomes the planner's diagnostic.
@@ -270,8 +220,8 @@ impl<'a> Checker<'a> {
                     format!("expanded {}, generated {}", plural(stats.expanded as usize, "state"), stats.generated);
                 let diagnostic =
                     planner::failure_diagnostic(kb, interner, &task, &name, &failure, stats, &figures, &options);
-                let located = diagnostic.labels.is_empty();
-                diagnostics.push(if located {
+                // A budget or exhaustion message has no place of its own: point at the case.
+                diagnostics.push(if diagnostic.labels.is_empty() {
                     diagnostic.primary(kb.problems[index].span, "this test case")
                 } else {
                     diagnostic
@@ -282,16 +232,62 @@ impl<'a> Checker<'a> {
     }
 }
 
+/// The drafted test case: the one problem of the draft file, named `name`.
+fn the_problem(
+    kb: &Kb,
+    interner: &Interner,
+    draft: FileId,
+    name: &str,
+    diagnostics: &mut Diagnostics,
+) -> Option<usize> {
+    let drafted: Vec<usize> = (0..kb.problems.len()).filter(|&i| kb.problems[i].span.file == draft).collect();
+    let start = Span::point(draft, 0);
+    match drafted.as_slice() {
+        [] => {
+            if !diagnostics.has_errors() {
+                diagnostics.push(
+                    Diagnostic::error(codes::NOT_ASKED_FOR, format!("the answer defines no test case `{name}`"))
+                        .primary(start, "the answer's code starts here")
+                        .with_help(format!("write it as `{name} :- go(InitialState, GoalState).`")),
+                );
+            }
+            None
+        }
+        [index] => {
+            let problem = &kb.problems[*index];
+            let written = interner.resolve(problem.name);
+            if written != name {
+                diagnostics.push(
+                    Diagnostic::error(
+                        codes::NOT_ASKED_FOR,
+                        format!("the test case is named `{written}`, not `{name}` as asked"),
+                    )
+                    .primary(problem.name_span, "this name")
+                    .with_fix(format!("rename it `{name}`"), problem.name_span, name),
+                );
+            }
+            Some(*index)
+        }
+        [first, rest @ ..] => {
+            let mut diagnostic = Diagnostic::error(
+                codes::NOT_ASKED_FOR,
+                format!("the answer defines {}; one was asked for", plural(drafted.len(), "test case")),
+            )
+            .primary(kb.problems[rest[0]].name_span, "another test case");
+            diagnostic = diagnostic.secondary(kb.problems[*first].name_span, "the first");
+            diagnostics.push(diagnostic.with_help(format!("answer with the one test case `{name}` only")));
+            drafted.iter().copied().find(|&i| interner.resolve(kb.problems[i].name) == name).or(Some(*first))
+        }
+    }
+}
+
 /// A test case answer holds test cases and nothing else: no facts, rules or directives that
 /// would change the KB (or run something when the file is consulted by a Prolog system).
 fn only_test_cases(frontend: &driver::Frontend, kb: &Kb, draft: FileId, diagnostics: &mut Diagnostics) {
     let Some(ast) = frontend.loaded.files.iter().find(|f| f.file == draft) else { return };
     for clause in &ast.clauses {
-        let is_problem = kb.problems.iter().any(|p| {
-            p.span.file == draft
-                && p.span.start >= clause.span.start
-                && p.span.start < clause.span.end.max(clause.span.start + 1)
-        });
+        let is_problem =
+            kb.problems.iter().any(|p| p.span.file == draft && clause.span.range().contains(&(p.span.start as usize)));
         if !is_problem && !clause.recovered {
             diagnostics.push(
                 Diagnostic::error(codes::NOT_ASKED_FOR, "the answer holds more than the test case")
@@ -322,10 +318,9 @@ pub fn states_of(interner: &Interner, problem: &Problem) -> States {
 
 /// The first line of `text`, shortened.
 fn excerpt(text: &str) -> String {
-    let line = text.trim().lines().next().unwrap_or("");
-    if text.trim().is_empty() {
+    let Some(line) = text.trim().lines().next() else {
         return "(nothing: the answer is empty)".to_string();
-    }
+    };
     let short: String = line.chars().take(60).collect();
     if short.len() < line.len() { format!("\"{short}...\"") } else { format!("\"{short}\"") }
 }

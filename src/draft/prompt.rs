@@ -28,26 +28,20 @@ pub fn action_examples(db: &SourceDb, kb: &Kb) -> Vec<String> {
 /// The text of `span` (to the end of its clause's `.`), preceded by the `%` comment lines
 /// directly above its first line.
 fn with_comment(db: &SourceDb, span: Span) -> String {
-    let text = db.text(span.file);
-    let start = span.start as usize;
+    let file = db.file(span.file);
+    let text = file.text();
     let mut end = span.end as usize;
-    // A problem's span may stop before the clause's full stop.
+    // An item's span is its term's: the clause's full stop comes after it.
     if let Some(dot) = text[end..].find('.') {
         if text[end..end + dot].trim().is_empty() {
             end += dot + 1;
         }
     }
-    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
-    let mut first = line_start;
-    while first > 0 {
-        let previous_end = first - 1; // the `\n` ending the line above
-        let previous_start = text[..previous_end].rfind('\n').map_or(0, |i| i + 1);
-        if !text[previous_start..previous_end].trim_start().starts_with('%') {
-            break;
-        }
-        first = previous_start;
+    let mut line = file.line_index(span.start);
+    while line > 0 && text[file.line_range(line - 1)].trim_start().starts_with('%') {
+        line -= 1;
     }
-    text[first..end].to_string()
+    text[file.line_range(line).start..end].to_string()
 }
 
 /// The first message: what the examples are, the examples, and the request.

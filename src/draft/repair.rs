@@ -4,7 +4,17 @@
 
 use super::check::{Checked, Checker};
 use super::{Message, Model, prompt};
-use crate::diag::render;
+use crate::diag::{Code, render};
+
+/// One error of an answer, as rounds are compared: its code and message (positions move
+/// between answers, so they do not count).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mistake {
+    /// The diagnostic's code.
+    pub code: Option<Code>,
+    /// Its message.
+    pub message: String,
+}
 
 /// One answer and its check.
 pub struct Round {
@@ -12,10 +22,10 @@ pub struct Round {
     pub answer: String,
     /// What checking it found.
     pub checked: Checked,
-    /// The problems of the round before that this answer no longer has, as `CODE: message`.
-    pub fixed: Vec<String>,
-    /// Problems this answer has that the round before did not.
-    pub new: Vec<String>,
+    /// The errors of the round before that this answer no longer has.
+    pub fixed: Vec<Mistake>,
+    /// Errors this answer has that the round before did not (all of them in the first round).
+    pub new: Vec<Mistake>,
 }
 
 /// How drafting ended.
@@ -68,10 +78,10 @@ pub fn draft(
         };
         conversation.push(Message::new("assistant", answer.clone()));
         let checked = checker.check(&answer);
-        let now = problems(&checked);
+        let now = mistakes(&checked);
         let (fixed, new) = match done.last() {
             Some(previous) => {
-                let before = problems(&previous.checked);
+                let before = mistakes(&previous.checked);
                 let fixed = before.iter().filter(|p| !now.contains(p)).cloned().collect();
                 let new = now.iter().filter(|p| !before.contains(p)).cloned().collect();
                 (fixed, new)
@@ -91,12 +101,12 @@ pub fn draft(
     Drafted { rounds: done, ending: Ending::OutOfRounds, conversation }
 }
 
-/// A round's errors, as `CODE: message`, in order.
-fn problems(checked: &Checked) -> Vec<String> {
+/// A round's errors, in order.
+fn mistakes(checked: &Checked) -> Vec<Mistake> {
     checked
         .diagnostics
         .iter()
         .filter(|d| d.is_error())
-        .map(|d| format!("{}: {}", d.code.map_or("error", |c| c.as_str()), d.message))
+        .map(|d| Mistake { code: d.code, message: d.message.clone() })
         .collect()
 }

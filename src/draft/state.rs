@@ -21,6 +21,7 @@ use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::engine::{Machine, Next, Program};
 use crate::intern::{Interner, Symbol};
 use crate::ir::hir::{self, Kb, Literal, Problem, Term, VarTable};
+use crate::source::Span;
 
 /// The resolution steps one `pos/2` query may take.
 const POS_QUERY_STEPS: u64 = 100_000;
@@ -153,7 +154,7 @@ pub fn check_problem(
     let shown = Shown { interner, vars: &problem.vars };
     let init = Reading::new(vocabulary, &problem.init);
     let goal = Reading::new(vocabulary, &problem.goal);
-    let mut positions = Positions { vocabulary, program, checked: BTreeMap::new() };
+    let mut positions = Positions { pos: vocabulary.pos, program, checked: BTreeMap::new() };
     for (reading, state) in [(&init, "the initial state"), (&goal, "the goal")] {
         check_state(reading, state, &shown, &mut positions, diagnostics);
     }
@@ -189,7 +190,7 @@ impl Shown<'_> {
 
 /// `pos(X, Y)` answers, asked once per cell.
 struct Positions<'a> {
-    vocabulary: &'a Vocabulary,
+    pos: Option<Symbol>,
     program: &'a Program,
     checked: BTreeMap<(i64, i64), bool>,
 }
@@ -199,7 +200,7 @@ impl Positions<'_> {
     /// integers, the KB has no `pos/2`, or the query fails with an error).
     fn knows(&mut self, (x, y): (&Term, &Term)) -> Option<bool> {
         let (Term::Int(x), Term::Int(y)) = (x, y) else { return None };
-        let pos = self.vocabulary.pos?;
+        let pos = self.pos?;
         if !self.program.defines(pos, 2) {
             return None;
         }
@@ -393,7 +394,7 @@ fn check_state(
                         .primary(place.literal.span, format!("{} is on top of its stack", shown.name(block)))
                         .with_fix(
                             format!("add `clear({name})`"),
-                            crate::source::Span::new(place.literal.span.file, place.literal.span.end, place.literal.span.end),
+                            Span::point(place.literal.span.file, place.literal.span.end),
                             format!(", clear({name})"),
                         )
                         .with_help("`clear(B)` holds exactly for the blocks with nothing on them; the planner only moves clear blocks"),
