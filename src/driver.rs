@@ -183,6 +183,49 @@ pub fn schedule(
     }
 }
 
+/// How many times [`reassign`] rearranges a plan it has just improved.
+const REASSIGN_ROUNDS: usize = 4;
+
+/// Runs the `reassign` pass on a scheduled plan and keeps what it gains: each candidate, best
+/// estimate first, is checked step by step under the search's semantics
+/// ([`crate::planner::is_solution`]) and scheduled by the temporal passes; the first whose
+/// makespan is shorter replaces the plan, and the pass runs again on it, up to
+/// [`REASSIGN_ROUNDS`] times. Returns the plan and schedule kept (the given ones when nothing
+/// was shorter).
+pub fn reassign(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    task: &mut crate::ir::task::Task,
+    plan: crate::ir::plan::Plan,
+    timed: Timed,
+) -> (crate::ir::plan::Plan, Timed) {
+    let (mut plan, mut timed) = (plan, timed);
+    for _ in 0..REASSIGN_ROUNDS {
+        let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
+        let mut improved = false;
+        for candidate in candidates {
+            if candidate.estimate >= timed.schedule.makespan
+                || !crate::planner::is_solution(task, program, &candidate.plan)
+            {
+                continue;
+            }
+            let mut diags = Diagnostics::new();
+            if let Some(scheduled) = schedule(kb, interner, program, &candidate.plan, &mut diags)
+                && scheduled.schedule.makespan < timed.schedule.makespan
+            {
+                (plan, timed) = (candidate.plan, scheduled);
+                improved = true;
+                break;
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    (plan, timed)
+}
+
 /// The back end: the behaviour tree of a scheduled plan, and its bytecode module.
 pub fn build_bytecode(
     kb: &Kb,

@@ -209,7 +209,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     let stats = outcome.stats;
     match outcome.result {
         Ok(plan) => {
-            let result = check(kb, interner, &plan);
+            let result = check(kb, interner, &mut task, plan.clone(), search == SearchKind::Heuristic);
             let makespan = result.as_ref().ok().map(|&(makespan, sequential)| (makespan, sequential));
             Row {
                 rung: *rung,
@@ -233,12 +233,15 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     }
 }
 
-/// Validates `plan`, schedules it and validates the schedule: the makespan and the sequential
-/// time, or what went wrong.
+/// Schedules `plan` (after the `reassign` pass, with `reassign`), validates the plan kept with
+/// [`validate`] and its schedule with [`validate::validate_timed`]: the makespan and the
+/// sequential time, or what went wrong.
 fn check(
     kb: &crate::ir::hir::Kb,
     interner: &crate::intern::Interner,
-    plan: &crate::ir::plan::Plan,
+    task: &mut crate::ir::task::Task,
+    plan: crate::ir::plan::Plan,
+    reassign: bool,
 ) -> Result<(i64, i64), String> {
     let first_error = |diagnostics: &crate::diag::Diagnostics| {
         diagnostics
@@ -246,18 +249,20 @@ fn check(
             .find(|d| d.severity == crate::diag::Severity::Error)
             .map_or(String::new(), |d| d.message.clone())
     };
+    let program = planner::program_for(kb, plan.problem);
+    let mut diagnostics = crate::diag::Diagnostics::new();
+    let Some(timed) = driver::schedule(kb, interner, &program, &plan, &mut diagnostics) else {
+        return Err(format!("no schedule: {}", first_error(&diagnostics)));
+    };
+    let (plan, timed) =
+        if reassign { driver::reassign(kb, interner, &program, task, plan, timed) } else { (plan, timed) };
     let span = kb.problems[plan.problem].span;
     let steps: Vec<validate::PlanStep> =
         plan.steps.iter().map(|s| validate::PlanStep { name: s.name.clone(), span, timing: None }).collect();
-    let program = planner::program_for(kb, plan.problem);
     let verdict = validate::validate(kb, interner, &program, plan.problem, &steps);
     if verdict.diagnostics.has_errors() {
         return Err(format!("INVALID PLAN (a planner bug): {}", first_error(&verdict.diagnostics)));
     }
-    let mut diagnostics = crate::diag::Diagnostics::new();
-    let Some(timed) = driver::schedule(kb, interner, &program, plan, &mut diagnostics) else {
-        return Err(format!("no schedule: {}", first_error(&diagnostics)));
-    };
     let timed_steps: Vec<validate::PlanStep> = crate::ir::schedule::timed_actions(kb, &timed.pop, &timed.schedule)
         .into_iter()
         .map(|a| validate::PlanStep { name: a.name, span, timing: Some((a.time, a.duration)) })

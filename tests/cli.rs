@@ -215,6 +215,40 @@ fn schedule_output_is_a_timed_plan_that_validates() {
     assert!(stdout(&check).starts_with("the timed plan is valid"), "{}", stdout(&check));
 }
 
+/// The `% makespan N` figure of `kbc plan`'s last line.
+fn makespan_of(text: &str) -> f64 {
+    let line = text.lines().last().expect("a last line");
+    line.strip_prefix("% makespan ").and_then(|rest| rest.split(' ').next()).expect("% makespan").parse().unwrap()
+}
+
+#[test]
+fn reassigned_schedules_say_so_and_validate() {
+    let dir = std::env::temp_dir().join(format!("kbc-cli-reassign-{}", std::process::id()));
+    let written = kbc(&["bench", "--filter", "reverse_b08_", "--write", dir.to_str().expect("UTF-8 path")]);
+    assert_eq!(written.status.code(), Some(0), "{}", stderr(&written));
+    let kb = dir.join("reverse_b08_a3_s1.pl");
+    let kb = kb.to_str().expect("UTF-8 path");
+    let reassigned = kbc(&["plan", kb, "--schedule"]);
+    let kept = kbc(&["plan", kb, "--schedule", "--no-reassign"]);
+    let (reassigned_text, kept_text) = (stdout(&reassigned), stdout(&kept));
+    let first_line = reassigned_text.lines().next().expect("a header");
+    let before: f64 = first_line
+        .split("jobs reassigned from a makespan of ")
+        .nth(1)
+        .and_then(|rest| rest.split(')').next())
+        .unwrap_or_else(|| panic!("the header says the jobs were reassigned: {first_line}"))
+        .parse()
+        .expect("a number");
+    assert!(!kept_text.contains("reassigned"), "{kept_text}");
+    assert_eq!(makespan_of(&kept_text), before, "--no-reassign keeps the search's schedule");
+    assert!(makespan_of(&reassigned_text) < before, "{reassigned_text}");
+    for text in [&reassigned_text, &kept_text] {
+        let check = validate_text(kb, text, "reassigned");
+        assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_given_plan_is_checked_then_scheduled() {
     let args = ["plan", "examples/06_partial_order/kb.pl", "--plan", "examples/06_partial_order/plan.txt"];

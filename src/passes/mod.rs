@@ -13,6 +13,7 @@ pub mod check;
 pub mod load;
 pub mod lower;
 pub mod pop;
+pub mod reassign;
 pub mod schedule;
 pub mod stn;
 pub mod task;

@@ -374,3 +374,25 @@ pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
     }
     states
 }
+
+/// True if `plan` solves its task under the search's own semantics: each step applicable in
+/// turn (its Valid, Invalid, InvalidAtEnd and OnKB conditions, as [`Successors`] decides
+/// them) and the last state a goal state with nothing left running. Plans the planner did not
+/// find itself (rearranged by `passes::reassign`) are checked with it before they are used.
+pub fn is_solution(task: &mut Task, program: &Program, plan: &Plan) -> bool {
+    let path = path_of(task, plan);
+    if path.len() != plan.steps.len() {
+        return false;
+    }
+    let mut successors = Successors::new(task, Machine::new(program, Budget::default().engine_steps));
+    let mut state = task.init.clone();
+    let mut applicable = Vec::new();
+    for action in &path {
+        applicable.clear();
+        if successors.schema(task, action.schema, &state, &mut applicable).is_err() || !applicable.contains(action) {
+            return false;
+        }
+        state = successors::apply(task, &state, action);
+    }
+    successors::goal_reached(task, &state)
+}

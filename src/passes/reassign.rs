@@ -1,0 +1,395 @@
+//! Pass `reassign`: a scheduled plan is rearranged into candidate plans with a shorter
+//! makespan, by giving each *job* to the unit of its resource that can do it soonest.
+//!
+//! The search decides what happens to the world (which block goes where, through which buffer
+//! cell) and also, step by step, which unit of a renewable resource (`resources/1`: an arm)
+//! does it and in which order. The second choice is made for a total order, with little idea
+//! of time, and wastes parallelism: an arm grips a block long before the place it goes to is
+//! ready, while a job that others wait for queues behind it. This pass keeps the first
+//! decision and remakes the second:
+//!
+//! - a *job* is what one unit does from the step that takes it (a step whose effects delete
+//!   the unit's resource fact, `available(a1)`) to the step that gives it back (one that adds
+//!   the fact again), with every step between them that names the unit: for std/blocks.pl,
+//!   the grip, the move and the release of one block;
+//! - what each step waits for apart from its unit is the partial order without the orderings
+//!   that come from resource facts, plus each durative action's minimum duration;
+//! - list scheduling in simulated time then starts the steps in time order, and gives a free
+//!   unit to a waiting job: the most urgent first (the longest path from it to the end of the
+//!   plan), started *just in time* (no earlier than needed for its steps that other jobs wait
+//!   for, and its last, to happen when they could anyway), so an arm does not hold a block in
+//!   the air while another job could use it. Variants of the rule (without just-in-time
+//!   starts, in the plan's order) make further candidates.
+//!
+//! Each candidate is a total-order plan: the steps sorted by their simulated times (ends
+//! before starts at equal times), each job's steps naming its new unit. The simulation is an
+//! estimate; the driver keeps a candidate only if the search's semantics accept it step by
+//! step and its own STN schedule is shorter (see `driver::schedule_shortest`).
+//!
+//! The pass does nothing (no candidates) when the KB declares no resource, when a resource
+//! template has other than one variable (a unit is one value), when a step takes or names two
+//! units, or when a unit is used outside a job (held in the initial state).
+
+use rustc_hash::FxHashMap;
+
+use crate::ir::hir::{EffectKind, Kb, Snap, Term};
+use crate::ir::plan::{Plan, Step};
+use crate::ir::pop::{ConditionKind, Pop, Reason};
+use crate::ir::stn::{EPSILON, Stn};
+use crate::ir::unify::unifiable;
+use crate::passes::pop::instantiate;
+
+/// A candidate plan and the makespan the simulation estimates for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    /// The rearranged plan.
+    pub plan: Plan,
+    /// The simulated makespan, in STN units.
+    pub estimate: i64,
+}
+
+/// The rules the simulation is run with, one candidate each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Rule {
+    /// Start a job as late as its exported steps and last step allow.
+    just_in_time: bool,
+    /// Rank waiting jobs by urgency (else by plan order).
+    urgency: bool,
+}
+
+const RULES: [Rule; 3] = [
+    Rule { just_in_time: true, urgency: true },
+    Rule { just_in_time: false, urgency: true },
+    Rule { just_in_time: true, urgency: false },
+];
+
+/// One unit's resource: the template (`available(_)`) and the argument position of its unit.
+struct Template<'a> {
+    term: &'a Term,
+    position: usize,
+}
+
+/// A job: a unit's steps from taking it to giving it back, in plan order.
+struct Job {
+    /// Which template the unit belongs to.
+    template: usize,
+    /// The unit the plan gave it.
+    unit: usize,
+    steps: Vec<usize>,
+}
+
+/// What the simulation works on.
+struct Problem {
+    n: usize,
+    snaps: Vec<Snap>,
+    /// For each step, the steps it waits for and the least separation from each.
+    preds: Vec<Vec<(usize, i64)>>,
+    /// For each step, whether a step of another job (or none) waits for it.
+    exported: Vec<bool>,
+    /// For each step, its job.
+    job_of: Vec<Option<usize>>,
+    jobs: Vec<Job>,
+    /// Units: (template, term).
+    units: Vec<(usize, Term)>,
+    /// The longest path from each step to the end of the plan, in time.
+    tail: Vec<i64>,
+}
+
+/// Candidate plans for `plan`, best estimate first; `pop` and `stn` are its partial order and
+/// temporal network. Empty when the pass does not apply (see the module docs) or when no rule
+/// gives a schedule (the simulation can deadlock: every unit held by a job that waits for a
+/// job without one).
+pub fn candidates(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Vec<Candidate> {
+    let Some(problem) = analyse(kb, plan, pop, stn) else { return Vec::new() };
+    let mut found: Vec<Candidate> = Vec::new();
+    for rule in RULES {
+        let Some((times, units)) = simulate(&problem, rule) else { continue };
+        let estimate = times.iter().copied().max().unwrap_or(0);
+        let candidate = Candidate { plan: rearranged(plan, &problem, &times, &units), estimate };
+        if candidate.plan != *plan && !found.iter().any(|c| c.plan == candidate.plan) {
+            found.push(candidate);
+        }
+    }
+    found.sort_by_key(|c| c.estimate);
+    found
+}
+
+/// True if `term` is `unit` or contains it.
+fn mentions(term: &Term, unit: &Term) -> bool {
+    term == unit || term.args().iter().any(|a| mentions(a, unit))
+}
+
+/// The unit a ground fact is of, if it matches a resource template.
+fn unit_of(templates: &[Template<'_>], units: &[(usize, Term)], fact: &Term) -> Option<usize> {
+    templates.iter().enumerate().find_map(|(t, template)| {
+        if !unifiable(template.term, fact) {
+            return None;
+        }
+        let value = fact.args().get(template.position)?;
+        units.iter().position(|(ut, term)| *ut == t && term == value)
+    })
+}
+
+fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
+    let n = plan.steps.len();
+    if n == 0 || pop.steps.len() != n {
+        return None;
+    }
+    // Templates with exactly one variable position.
+    let mut templates = Vec::new();
+    for resource in &kb.resources {
+        let args = resource.template.term.args();
+        let vars: Vec<usize> = (0..args.len()).filter(|&i| matches!(args[i], Term::Var(_))).collect();
+        if vars.len() != 1 {
+            return None;
+        }
+        templates.push(Template { term: &resource.template.term, position: vars[0] });
+    }
+    if templates.is_empty() {
+        return None;
+    }
+    // Each step's effects, and the units: the values of resource facts in the initial state
+    // and in effects.
+    let effects: Vec<Vec<(EffectKind, Term)>> = plan
+        .steps
+        .iter()
+        .map(|step| {
+            let action = &kb.actions[step.action];
+            action.effects.iter().map(|e| (e.kind, instantiate(&e.literal.term, &step.bindings))).collect()
+        })
+        .collect();
+    let init = kb.problems[plan.problem].init.iter().map(|l| &l.term);
+    let mut units: Vec<(usize, Term)> = Vec::new();
+    for fact in init.chain(effects.iter().flatten().map(|(_, fact)| fact)) {
+        for (t, template) in templates.iter().enumerate() {
+            if unifiable(template.term, fact)
+                && let Some(value) = fact.args().get(template.position)
+                && !units.iter().any(|(ut, v)| *ut == t && v == value)
+            {
+                units.push((t, value.clone()));
+            }
+        }
+    }
+    if units.len() < 2 {
+        return None; // nothing to choose between
+    }
+    // Jobs, by scanning the plan.
+    let mut open: Vec<Option<usize>> = vec![None; units.len()];
+    let mut jobs: Vec<Job> = Vec::new();
+    let mut job_of: Vec<Option<usize>> = vec![None; n];
+    for (i, step) in plan.steps.iter().enumerate() {
+        let mut takes = Vec::new();
+        let mut gives = Vec::new();
+        for (kind, fact) in &effects[i] {
+            if let Some(unit) = unit_of(&templates, &units, fact) {
+                match kind {
+                    EffectKind::Del => takes.push(unit),
+                    EffectKind::Add => gives.push(unit),
+                }
+            }
+        }
+        let named: Vec<usize> = (0..units.len()).filter(|&u| mentions(&step.name, &units[u].1)).collect();
+        if takes.len() > 1 || gives.len() > 1 || named.len() > 1 {
+            return None;
+        }
+        if let Some(&unit) = takes.first() {
+            if open[unit].is_some() {
+                return None;
+            }
+            open[unit] = Some(jobs.len());
+            jobs.push(Job { template: units[unit].0, unit, steps: Vec::new() });
+        }
+        let unit = takes.first().or(gives.first()).or(named.first()).copied();
+        if let Some(unit) = unit {
+            let job = open[unit]?; // a unit used outside a job
+            jobs[job].steps.push(i);
+            job_of[i] = Some(job);
+        }
+        if let Some(&unit) = gives.first() {
+            open[unit] = None;
+        }
+    }
+    if open.iter().any(Option::is_some) {
+        return None; // a job that never gives its unit back
+    }
+    // Orderings, without those that come from resource facts.
+    let through_resource = |literal: &Term| templates.iter().any(|t| unifiable(t.term, literal));
+    let snaps: Vec<Snap> = pop.steps.iter().map(|s| s.snap).collect();
+    let mut preds: Vec<Vec<(usize, i64)>> = vec![Vec::new(); n];
+    for ordering in &pop.orderings {
+        let literal = match ordering.reason {
+            Reason::Achiever { condition } => pop.steps[ordering.after].conditions.get(condition).map(|c| &c.literal),
+            Reason::Threat { consumer, condition } if consumer < n => {
+                pop.steps[consumer].conditions.get(condition).map(|c| &c.literal)
+            }
+            Reason::Threat { condition, .. } => {
+                pop.goal.get(condition).filter(|c| c.kind == ConditionKind::Goal).map(|c| &c.literal)
+            }
+            Reason::StartEnd => None,
+        };
+        if literal.is_some_and(through_resource) {
+            continue;
+        }
+        let separation = match (snaps[ordering.before], snaps[ordering.after]) {
+            (Snap::End, Snap::Start) => 0,
+            _ => EPSILON,
+        };
+        preds[ordering.after].push((ordering.before, separation));
+    }
+    for (end, step) in pop.steps.iter().enumerate() {
+        if let Some(start) = step.start {
+            let min = stn.durations[start].map_or(EPSILON, |b| b.min.max(EPSILON));
+            preds[end].push((start, min));
+        }
+    }
+    let mut exported = vec![false; n];
+    for (after, list) in preds.iter().enumerate() {
+        for &(before, _) in list {
+            if job_of[before].is_none() || job_of[before] != job_of[after] {
+                exported[before] = true;
+            }
+        }
+    }
+    // Tails: orderings go forward in plan order, so one backward sweep.
+    let mut tail = vec![0i64; n];
+    for after in (0..n).rev() {
+        for &(before, separation) in &preds[after] {
+            tail[before] = tail[before].max(tail[after] + separation);
+        }
+    }
+    Some(Problem { n, snaps, preds, exported, job_of, jobs, units, tail })
+}
+
+/// List scheduling of `problem` under `rule`: each step's time and each job's unit, or `None`
+/// when the simulation deadlocks.
+fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
+    let n = problem.n;
+    let mut time: Vec<Option<i64>> = vec![None; n];
+    let mut unit_of_job: Vec<usize> = problem.jobs.iter().map(|j| j.unit).collect();
+    // When each unit is free, and the job holding it.
+    let mut free_at: Vec<i64> = vec![0; problem.units.len()];
+    let mut holder: Vec<Option<usize>> = vec![None; problem.units.len()];
+    let mut started: Vec<bool> = vec![false; problem.jobs.len()];
+    let mut bound: Vec<i64> = vec![0; n];
+    let mut now = 0i64;
+    for _ in 0..n {
+        // Lower bounds for every step not yet placed: no earlier than now, nor than its
+        // predecessors allow (plan order is a topological order).
+        for i in 0..n {
+            bound[i] = match time[i] {
+                Some(t) => t,
+                None => problem.preds[i].iter().fold(now, |acc, &(p, sep)| acc.max(bound[p] + sep)),
+            };
+        }
+        // The step to place next: the one that can happen first.
+        let mut best: Option<((i64, i64, usize), Option<usize>)> = None; // ((time, rank, step), unit)
+        for i in 0..n {
+            if time[i].is_some() || problem.preds[i].iter().any(|&(p, _)| time[p].is_none()) {
+                continue;
+            }
+            let ready = bound[i];
+            let job = problem.job_of[i];
+            let (at, unit) = match job {
+                Some(j) if !started[j] => {
+                    let template = problem.jobs[j].template;
+                    let free = (0..problem.units.len())
+                        .filter(|&u| holder[u].is_none() && problem.units[u].0 == template)
+                        .min_by_key(|&u| (free_at[u].max(ready), u != problem.jobs[j].unit, u));
+                    let Some(unit) = free else { continue };
+                    let mut at = free_at[unit].max(ready);
+                    if rule.just_in_time {
+                        at += delay(problem, &bound, j, at);
+                    }
+                    (at, Some(unit))
+                }
+                _ => (ready, None),
+            };
+            let rank = match (rule.urgency, job) {
+                (true, _) => -problem.tail[i],
+                (false, Some(j)) => problem.jobs[j].steps[0] as i64,
+                (false, None) => i as i64,
+            };
+            if best.is_none_or(|(key, _)| (at, rank, i) < key) {
+                best = Some(((at, rank, i), unit));
+            }
+        }
+        let ((at, _, i), unit) = best?; // deadlock: nothing can be placed
+        time[i] = Some(at);
+        now = at;
+        if let (Some(j), Some(unit)) = (problem.job_of[i], unit) {
+            started[j] = true;
+            holder[unit] = Some(j);
+            unit_of_job[j] = unit;
+        }
+        if let Some(j) = problem.job_of[i]
+            && problem.jobs[j].steps.last() == Some(&i)
+        {
+            let unit = unit_of_job[j];
+            holder[unit] = None;
+            free_at[unit] = at;
+        }
+    }
+    Some((time.into_iter().map(|t| t.unwrap_or(0)).collect(), unit_of_job))
+}
+
+/// How long job `j`, if it started at `at`, could start later without delaying its last step
+/// or any step another job waits for: the waiting its steps would do before the first such
+/// step, given the lower bounds on everything else.
+fn delay(problem: &Problem, bound: &[i64], j: usize, at: i64) -> i64 {
+    let steps = &problem.jobs[j].steps;
+    let mut local: FxHashMap<usize, (i64, i64)> = FxHashMap::default(); // step -> (time, offset)
+    let mut slack = i64::MAX;
+    for (k, &s) in steps.iter().enumerate() {
+        let (mut t, mut offset) = if k == 0 { (at, 0) } else { (i64::MIN, 0) };
+        for &(p, separation) in &problem.preds[s] {
+            match local.get(&p) {
+                Some(&(pt, po)) => {
+                    t = t.max(pt + separation);
+                    offset = offset.max(po + separation);
+                }
+                None => t = t.max(bound[p] + separation),
+            }
+        }
+        let t = t.max(at + offset);
+        local.insert(s, (t, offset));
+        if problem.exported[s] || k + 1 == steps.len() {
+            slack = slack.min(t - at - offset);
+        }
+    }
+    if slack == i64::MAX { 0 } else { slack.max(0) }
+}
+
+/// The plan in simulated time order, each job naming its unit.
+fn rearranged(plan: &Plan, problem: &Problem, times: &[i64], units: &[usize]) -> Plan {
+    let mut order: Vec<usize> = (0..problem.n).collect();
+    order.sort_by_key(|&i| (times[i], problem.snaps[i] != Snap::End, i));
+    let steps = order
+        .into_iter()
+        .map(|i| {
+            let step = &plan.steps[i];
+            match problem.job_of[i] {
+                Some(j) if units[j] != problem.jobs[j].unit => {
+                    let (from, to) = (&problem.units[problem.jobs[j].unit].1, &problem.units[units[j]].1);
+                    Step {
+                        action: step.action,
+                        name: replace(&step.name, from, to),
+                        bindings: step.bindings.iter().map(|b| b.as_ref().map(|t| replace(t, from, to))).collect(),
+                    }
+                }
+                _ => step.clone(),
+            }
+        })
+        .collect();
+    Plan { problem: plan.problem, steps }
+}
+
+/// `term` with every `from` replaced by `to`.
+fn replace(term: &Term, from: &Term, to: &Term) -> Term {
+    if term == from {
+        return to.clone();
+    }
+    match term {
+        Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| replace(a, from, to)).collect()),
+        other => other.clone(),
+    }
+}
