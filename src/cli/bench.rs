@@ -174,6 +174,7 @@ fn write_rungs(dir: &std::path::Path, rungs: &[Rung]) -> ExitCode {
             return ExitCode::from(1);
         }
     }
-    println!("wrote {} goal files to {}", rungs.len(), dir.display());
+    let files = if rungs.len() == 1 { "goal file" } else { "goal files" };
+    println!("wrote {} {files} to {}", rungs.len(), dir.display());
     ExitCode::SUCCESS
 }
