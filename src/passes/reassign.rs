@@ -24,7 +24,7 @@
 //! Each candidate is a total-order plan: the steps sorted by their simulated times (ends
 //! before starts at equal times), each job's steps naming its new unit. The simulation is an
 //! estimate; the driver keeps a candidate only if the search's semantics accept it step by
-//! step and its own STN schedule is shorter (see `driver::schedule_shortest`).
+//! step and its own STN schedule is shorter (see `driver::reassign`).
 //!
 //! The pass does nothing (no candidates) when the KB declares no resource, when a resource
 //! template has other than one variable (a unit is one value), when a step takes or names two
@@ -35,7 +35,7 @@ use rustc_hash::FxHashMap;
 use crate::ir::hir::{EffectKind, Kb, Snap, Term};
 use crate::ir::plan::{Plan, Step};
 use crate::ir::pop::{ConditionKind, Pop, Reason};
-use crate::ir::stn::{EPSILON, Stn};
+use crate::ir::stn::{EPSILON, Stn, separation};
 use crate::ir::unify::unifiable;
 use crate::passes::pop::instantiate;
 
@@ -80,7 +80,7 @@ struct Job {
 
 /// What the simulation works on.
 struct Problem {
-    n: usize,
+    /// Each step's kind.
     snaps: Vec<Snap>,
     /// For each step, the steps it waits for and the least separation from each.
     preds: Vec<Vec<(usize, i64)>>,
@@ -230,11 +230,7 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
         if literal.is_some_and(through_resource) {
             continue;
         }
-        let separation = match (snaps[ordering.before], snaps[ordering.after]) {
-            (Snap::End, Snap::Start) => 0,
-            _ => EPSILON,
-        };
-        preds[ordering.after].push((ordering.before, separation));
+        preds[ordering.after].push((ordering.before, separation(snaps[ordering.before], snaps[ordering.after])));
     }
     for (end, step) in pop.steps.iter().enumerate() {
         if let Some(start) = step.start {
@@ -245,7 +241,7 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
     let mut exported = vec![false; n];
     for (after, list) in preds.iter().enumerate() {
         for &(before, _) in list {
-            if job_of[before].is_none() || job_of[before] != job_of[after] {
+            if job_of[before] != job_of[after] {
                 exported[before] = true;
             }
         }
@@ -257,18 +253,18 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
             tail[before] = tail[before].max(tail[after] + separation);
         }
     }
-    Some(Problem { n, snaps, preds, exported, job_of, jobs, units, tail })
+    Some(Problem { snaps, preds, exported, job_of, jobs, units, tail })
 }
 
 /// List scheduling of `problem` under `rule`: each step's time and each job's unit, or `None`
 /// when the simulation deadlocks.
 fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
-    let n = problem.n;
+    let n = problem.snaps.len();
     let mut time: Vec<Option<i64>> = vec![None; n];
     let mut unit_of_job: Vec<usize> = problem.jobs.iter().map(|j| j.unit).collect();
-    // When each unit is free, and the job holding it.
+    // When each unit is free, and whether a job holds it.
     let mut free_at: Vec<i64> = vec![0; problem.units.len()];
-    let mut holder: Vec<Option<usize>> = vec![None; problem.units.len()];
+    let mut held: Vec<bool> = vec![false; problem.units.len()];
     let mut started: Vec<bool> = vec![false; problem.jobs.len()];
     let mut bound: Vec<i64> = vec![0; n];
     let mut now = 0i64;
@@ -293,7 +289,7 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
                 Some(j) if !started[j] => {
                     let template = problem.jobs[j].template;
                     let free = (0..problem.units.len())
-                        .filter(|&u| holder[u].is_none() && problem.units[u].0 == template)
+                        .filter(|&u| !held[u] && problem.units[u].0 == template)
                         .min_by_key(|&u| (free_at[u].max(ready), u != problem.jobs[j].unit, u));
                     let Some(unit) = free else { continue };
                     let mut at = free_at[unit].max(ready);
@@ -318,14 +314,14 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         now = at;
         if let (Some(j), Some(unit)) = (problem.job_of[i], unit) {
             started[j] = true;
-            holder[unit] = Some(j);
+            held[unit] = true;
             unit_of_job[j] = unit;
         }
         if let Some(j) = problem.job_of[i]
             && problem.jobs[j].steps.last() == Some(&i)
         {
             let unit = unit_of_job[j];
-            holder[unit] = None;
+            held[unit] = false;
             free_at[unit] = at;
         }
     }
@@ -361,7 +357,7 @@ fn delay(problem: &Problem, bound: &[i64], j: usize, at: i64) -> i64 {
 
 /// The plan in simulated time order, each job naming its unit.
 fn rearranged(plan: &Plan, problem: &Problem, times: &[i64], units: &[usize]) -> Plan {
-    let mut order: Vec<usize> = (0..problem.n).collect();
+    let mut order: Vec<usize> = (0..problem.snaps.len()).collect();
     order.sort_by_key(|&i| (times[i], problem.snaps[i] != Snap::End, i));
     let steps = order
         .into_iter()

@@ -124,10 +124,10 @@ impl Timeline {
         self.makespan = 0;
     }
 
-    /// The least time between step `from` and a new action of kind `to`: none from an end to
-    /// a start (at equal times ends happen first), a thousandth otherwise.
+    /// The least time between step `from` and a new action of kind `to`
+    /// ([`crate::ir::stn::separation`]).
     fn separation(&self, from: usize, to: Snap) -> i64 {
-        if self.steps[from].snap == Snap::End && to == Snap::Start { 0 } else { EPSILON }
+        crate::ir::stn::separation(self.steps[from].snap, to)
     }
 
     /// Where `action` goes after the prefix recorded so far.
