@@ -209,12 +209,13 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     let stats = outcome.stats;
     match outcome.result {
         Ok(plan) => {
-            let result = check(kb, interner, &mut task, plan.clone(), search == SearchKind::Heuristic);
-            let makespan = result.as_ref().ok().map(|&(makespan, sequential)| (makespan, sequential));
+            let length = plan.steps.len();
+            let result = check(kb, interner, &mut task, plan, search == SearchKind::Heuristic);
+            let makespan = result.as_ref().ok().copied();
             Row {
                 rung: *rung,
                 search,
-                result: result.map(|_| plan.steps.len()),
+                result: result.map(|_| length),
                 makespan,
                 expanded: stats.expanded,
                 elapsed: stats.elapsed,
