@@ -226,6 +226,26 @@ pub fn reassign(
     (plan, timed)
 }
 
+/// The makespan `kbc plan` gives a plan the heuristic search found: scheduled by the temporal
+/// passes, then rearranged by [`reassign`]. The search's improvement phase scores its plans
+/// with it, since `reassign` can shorten a plan a lot more than the search can tell.
+pub struct ReassignedMakespan<'a> {
+    /// The KB.
+    pub kb: &'a Kb,
+    /// Its names.
+    pub interner: &'a Interner,
+    /// The problem's program (see [`crate::planner::program_for`]).
+    pub program: &'a crate::engine::Program,
+}
+
+impl crate::planner::Score for ReassignedMakespan<'_> {
+    fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
+        let timed = schedule(self.kb, self.interner, self.program, plan, &mut Diagnostics::new())?;
+        let (_, timed) = reassign(self.kb, self.interner, self.program, task, plan.clone(), timed);
+        Some(timed.schedule.makespan)
+    }
+}
+
 /// The back end: the behaviour tree of a scheduled plan, and its bytecode module.
 pub fn build_bytecode(
     kb: &Kb,

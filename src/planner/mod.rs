@@ -171,6 +171,15 @@ pub trait Progress {
     fn report(&mut self, stats: &Stats);
 }
 
+/// Scores a complete plan for the heuristic search's improvement phase: its makespan, in STN
+/// units, after the passes that follow the search (for `kbc plan`, the temporal passes and
+/// `reassign`), or `None` when it cannot be scheduled. A plan found while improving is kept
+/// only if its score is shorter than the best so far.
+pub trait Score {
+    /// The score of `plan`, a plan for `task`.
+    fn score(&mut self, task: &mut Task, plan: &Plan) -> Option<i64>;
+}
+
 /// A progress receiver that ignores everything.
 pub struct Silent;
 
@@ -195,6 +204,19 @@ pub fn search(
     interner: &crate::intern::Interner,
     task: &mut Task,
     options: &Options,
+    progress: &mut dyn Progress,
+) -> Outcome {
+    search_scored(kb, interner, task, options, None, progress)
+}
+
+/// [`search`], with the plans of the heuristic search's improvement phase (`Options::improve`)
+/// judged by `scorer` instead of the search's own makespan estimate.
+pub fn search_scored(
+    kb: &Kb,
+    interner: &crate::intern::Interner,
+    task: &mut Task,
+    options: &Options,
+    mut scorer: Option<&mut dyn Score>,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let started = Instant::now();
@@ -238,14 +260,24 @@ pub fn search(
                 Some(time) => (usize::MAX, Some(Instant::now() + time)),
                 None => (options.plans.max(1), None),
             };
-            let outcome = best_first::search(task, successors, &options.budget, wanted, until, true, progress);
+            let outcome = best_first::search(
+                task,
+                successors,
+                &options.budget,
+                wanted,
+                until,
+                true,
+                scorer.as_mut().map(|s| &mut **s as &mut dyn Score),
+                progress,
+            );
             if matches!(outcome.result, Err(Failure::Exhausted { .. })) && outcome.stats.unschedulable > 0 {
                 // Every plan the search could reach was pruned for its durations. Plan once
                 // more without the temporal check: the scheduler then rejects that plan with
                 // a diagnostic naming the constraints that cannot be met, which says far more
                 // than "no plan".
                 let successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
-                let mut retry = best_first::search(task, successors, &options.budget, wanted, until, false, progress);
+                let mut retry =
+                    best_first::search(task, successors, &options.budget, wanted, until, false, scorer, progress);
                 retry.stats.unschedulable += outcome.stats.unschedulable;
                 retry
             } else {

@@ -15,6 +15,12 @@
 //! Bellman-Ford relaxation and finds out; the search prunes such prefixes rather than hand
 //! the scheduler a plan it must reject. Threat orderings are left to the temporal passes.
 //!
+//! Beside its time, each step gets a *resource-free* time: the same rule without the achievers
+//! of Valid conditions on a renewable resource (`available(A)` under `resources(available(_))`).
+//! It is when the step could happen if a unit were always free, and the resource-free makespan
+//! is a lower bound for any plan that does the same steps with the units given out again (the
+//! `reassign` pass), which the improvement phase of the search prunes with.
+//!
 //! Durations come from the KB's `duration(Action, Min, Max)`, proven by the resolution engine
 //! and remembered per action instance; an action without one takes the documented default.
 
@@ -85,6 +91,10 @@ pub struct Placement {
     pub time: i64,
     /// The time it occupies the plan until: its earliest end, for a start.
     pub until: i64,
+    /// Its resource-free time.
+    pub free: i64,
+    /// Its resource-free `until`.
+    pub free_until: i64,
     /// The earlier steps it waits for, with the separation from each.
     achievers: Vec<(usize, i64)>,
     /// For an end: its start step and the action's bounds.
@@ -98,6 +108,7 @@ pub struct Placement {
 struct Placed {
     snap: Snap,
     time: i64,
+    free: i64,
     achievers: Vec<(usize, i64)>,
     end_of: Option<(usize, i64, i64)>,
 }
@@ -112,6 +123,8 @@ pub struct Timeline {
     steps: Vec<Placed>,
     /// The prefix's makespan so far.
     pub makespan: i64,
+    /// The prefix's resource-free makespan so far.
+    pub free_makespan: i64,
 }
 
 impl Timeline {
@@ -122,6 +135,7 @@ impl Timeline {
         self.started.clear();
         self.steps.clear();
         self.makespan = 0;
+        self.free_makespan = 0;
     }
 
     /// The least time between step `from` and a new action of kind `to`
@@ -141,11 +155,16 @@ impl Timeline {
         let Task { consts, facts, schemas, .. } = task;
         let schema = &schemas[action.schema];
         let mut achievers: Vec<(usize, i64)> = Vec::new();
-        for literal in schema.valid.iter() {
+        let mut free = 0;
+        for (literal, &resource) in schema.valid.iter().zip(schema.resource_valid.iter()) {
             let args: Option<Vec<ConstId>> =
                 literal.args.iter().map(|a| successors::instantiate(a, consts, &action.bindings)).collect();
             if let Some(step) = args.and_then(|args| facts.find(literal.pred, &args)).and_then(|f| self.added.get(&f)) {
-                achievers.push((*step, self.separation(*step, schema.snap)));
+                let separation = self.separation(*step, schema.snap);
+                achievers.push((*step, separation));
+                if !resource {
+                    free = free.max(self.steps[*step].free + separation);
+                }
             }
         }
         let mut scratch = action.bindings.to_vec();
@@ -153,13 +172,16 @@ impl Timeline {
         for literal in schema.invalid.iter() {
             for &(fact, step) in self.deleted.get(&literal.pred.0).map(Vec::as_slice).unwrap_or(&[]) {
                 if successors::match_literal(literal, fact, consts, facts, &mut scratch, &mut trail) {
-                    achievers.push((step, self.separation(step, schema.snap)));
+                    let separation = self.separation(step, schema.snap);
+                    achievers.push((step, separation));
+                    free = free.max(self.steps[step].free + separation);
                 }
                 successors::undo(&mut scratch, &mut trail, 0);
             }
         }
         let mut time = achievers.iter().map(|&(step, sep)| self.steps[step].time + sep).max().unwrap_or(0);
         let mut until = time;
+        let mut free_until = free;
         let mut end_of = None;
         let mut starts = None;
         match schema.snap {
@@ -169,6 +191,8 @@ impl Timeline {
                     let (min, max) = durations.bounds(consts, machine, action.schema, instance)?;
                     time = time.max(self.steps[start].time + min.max(EPSILON));
                     until = time;
+                    free = free.max(self.steps[start].free + min.max(EPSILON));
+                    free_until = free;
                     end_of = Some((start, min.max(EPSILON), max));
                 }
             }
@@ -176,12 +200,13 @@ impl Timeline {
                 if let Some(instance) = successors::running_instance(schema, consts, &action.bindings) {
                     let (min, _) = durations.bounds(consts, machine, action.schema, instance)?;
                     until = time.saturating_add(min.max(EPSILON));
+                    free_until = free.saturating_add(min.max(EPSILON));
                     starts = Some(instance);
                 }
             }
             Snap::Instant => {}
         }
-        Ok(Placement { time, until, achievers, end_of, starts })
+        Ok(Placement { time, until, free, free_until, achievers, end_of, starts })
     }
 
     /// Records `action`, placed at `placement`, as the next step.
@@ -213,9 +238,11 @@ impl Timeline {
             self.started.remove(&instance);
         }
         self.makespan = self.makespan.max(placement.until);
+        self.free_makespan = self.free_makespan.max(placement.free_until);
         self.steps.push(Placed {
             snap: schema.snap,
             time: placement.time,
+            free: placement.free,
             achievers: placement.achievers,
             end_of: placement.end_of,
         });
