@@ -49,6 +49,7 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
         replan: true,
         max_recoveries: 3,
         options: &options,
+        reassign: true,
         profile: ("sim", PRIMITIVES),
         max_time: 1_000_000,
         max_ticks: 1_000_000,

@@ -530,6 +530,7 @@ fn run_with_recovery(
         replan: !args.no_replan,
         max_recoveries: args.max_recoveries,
         options: &options,
+        reassign: matches!(args.planning.search, super::plan::SearchArg::Heuristic) && !args.planning.no_reassign,
         profile: ("simulated-arms", kbvm::sim::PRIMITIVES),
         max_time: args.max_time_units(&program),
         max_ticks: args.max_ticks,

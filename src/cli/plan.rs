@@ -199,6 +199,11 @@ pub(super) fn search_options(args: &PlanningArgs) -> Options {
     }
 }
 
+/// Whether the search scores its plans by their makespan after `reassign` (while improving).
+fn scored(args: &PlanningArgs) -> bool {
+    args.plan.is_none() && args.improve.is_some() && matches!(args.search, SearchArg::Heuristic) && !args.no_reassign
+}
+
 /// Runs the front end, finds (or reads and checks) a plan and schedules it; on failure the
 /// diagnostics are already printed and the exit status is returned.
 pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: bool) -> Result<Planned, ExitCode> {
@@ -247,10 +252,9 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
                 drawn: None,
             };
             // While improving, plans are judged by the makespan they end up with.
-            let reassigned = args.improve.is_some() && search == SearchKind::Heuristic && !args.no_reassign;
             let mut scorer =
                 driver::ReassignedMakespan { kb: &frontend.kb, interner: &frontend.interner, program: &program };
-            let scorer = reassigned.then_some(&mut scorer as &mut dyn planner::Score);
+            let scorer = scored(args).then_some(&mut scorer as &mut dyn planner::Score);
             let outcome =
                 planner::search_scored(&frontend.kb, &frontend.interner, &mut task, &options, scorer, &mut progress);
             if progress.shown {
@@ -292,10 +296,13 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
     // arms and order of jobs where that is shorter; the paper's search and plan files are
     // scheduled as they are.
     let reassign = args.plan.is_none() && matches!(args.search, SearchArg::Heuristic) && !args.no_reassign;
+    // Plans the search scored come shortest last: the last one that can be scheduled is the one.
+    let order: Vec<usize> = if scored(args) { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
     // (index, schedule, makespan before `reassign`)
     let mut chosen: Option<(usize, driver::Timed, i64)> = None;
     let mut first_failure: Option<Diagnostics> = None;
-    for (index, plan) in plans.iter_mut().enumerate() {
+    for index in order {
+        let plan = &mut plans[index];
         if cfg!(debug_assertions) {
             plan::verify(kb, plan).unwrap_or_else(|e| panic!("internal compiler error: the plan verifier failed: {e}"));
         }
@@ -319,13 +326,13 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
                     }
                     chosen = Some((index, timed, searched));
                 }
-                if args.improve.is_none() {
+                if args.improve.is_none() || scored(args) {
                     break;
                 }
             }
             None => {
                 first_failure.get_or_insert(attempt);
-                if chosen.is_none() && index >= args.retries as usize {
+                if !scored(args) && chosen.is_none() && index >= args.retries as usize {
                     break;
                 }
             }
