@@ -10,11 +10,12 @@ inequalities; a makespan-minimising planner picks the minimum anyway) and runs:
   local search is randomised, so its makespans vary from seed to seed; the table gives the
   fastest of its times and the best and median of its makespans;
 - kbc's default (`kbc plan --schedule`: the first plan, rearranged by the `reassign` pass);
-- kbc with `--improve`, given F (default 1/5) of LPG's fastest time as its whole budget (the
+- kbc with `--improve`, given F (default 0.17) of LPG's fastest time as its whole budget (the
   improvement phase, which counts from the search's start, gets that minus one and a half
   times what the default run spent outside its search: start-up, front end, scheduling): the
   question the issue asks is whether kbc, five times faster, is as good. The ratio column is
-  measured, not assumed;
+  measured, not assumed: with F = 0.2 the improvement deadline (checked between expansions)
+  and start-up left kbc 4.6-4.9x faster on 11 of 24 rungs, with 0.17 every rung was >= 5.2x;
 - Kairos (first plan, one thread).
 
 Their plans are mapped back to the KB through names.json and every plan is validated with
@@ -118,7 +119,7 @@ def main():
     parser.add_argument("--timeout", type=float, default=60.0)
     parser.add_argument("--only", nargs="*", default=None, help="rung name prefixes")
     parser.add_argument("--seeds", type=int, default=5, help="LPG runs per rung, seeds 1..N")
-    parser.add_argument("--share", type=float, default=0.2,
+    parser.add_argument("--share", type=float, default=0.17,
                         help="kbc --improve's budget as a share of LPG's fastest time")
     args = parser.parse_args()
     if not os.path.exists(KBC):
