@@ -221,13 +221,34 @@ fn makespan_of(text: &str) -> f64 {
     line.strip_prefix("% makespan ").and_then(|rest| rest.split(' ').next()).expect("% makespan").parse().unwrap()
 }
 
+/// One rung of the ladder, written by `kbc bench --write` into a directory of its own that is
+/// removed when the value is dropped.
+struct Rung {
+    dir: std::path::PathBuf,
+    kb: String,
+}
+
+impl Rung {
+    /// Writes the rung called `name` (e.g. `build_b08_a3_s1`); `tag` keeps tests apart.
+    fn write(name: &str, tag: &str) -> Rung {
+        let dir = std::env::temp_dir().join(format!("kbc-cli-{tag}-{}", std::process::id()));
+        let written = kbc(&["bench", "--filter", name, "--write", dir.to_str().expect("UTF-8 path")]);
+        assert_eq!(written.status.code(), Some(0), "{}", stderr(&written));
+        let kb = dir.join(format!("{name}.pl")).to_str().expect("UTF-8 path").to_string();
+        Rung { dir, kb }
+    }
+}
+
+impl Drop for Rung {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 #[test]
 fn improving_keeps_the_shortest_reassigned_schedule() {
-    let dir = std::env::temp_dir().join(format!("kbc-cli-improve-{}", std::process::id()));
-    let written = kbc(&["bench", "--filter", "build_b08_", "--write", dir.to_str().expect("UTF-8 path")]);
-    assert_eq!(written.status.code(), Some(0), "{}", stderr(&written));
-    let kb = dir.join("build_b08_a3_s1.pl");
-    let kb = kb.to_str().expect("UTF-8 path");
+    let rung = Rung::write("build_b08_a3_s1", "improve");
+    let kb = rung.kb.as_str();
     // A budget of states rather than time ends the improvement the same way on any machine.
     let improve = ["plan", kb, "--schedule", "--improve", "600", "--max-states", "2000"];
     let improved = stdout(&kbc(&improve));
@@ -236,16 +257,12 @@ fn improving_keeps_the_shortest_reassigned_schedule() {
     assert_eq!(plan_lines(&stdout(&kbc(&improve))), plan_lines(&improved), "the same plan under a states budget");
     let check = validate_text(kb, &improved, "improved");
     assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn replans_after_a_fault_are_reassigned_too() {
-    let dir = std::env::temp_dir().join(format!("kbc-cli-replan-reassign-{}", std::process::id()));
-    let written = kbc(&["bench", "--filter", "reverse_b08_", "--write", dir.to_str().expect("UTF-8 path")]);
-    assert_eq!(written.status.code(), Some(0), "{}", stderr(&written));
-    let kb = dir.join("reverse_b08_a3_s1.pl");
-    let kb = kb.to_str().expect("UTF-8 path");
+    let rung = Rung::write("reverse_b08_a3_s1", "replan-reassign");
+    let kb = rung.kb.as_str();
     // The replanned makespan, from `% replanned from the world read back at T: N actions, makespan M`.
     let replanned = |extra: &[&str]| -> f64 {
         let mut args = vec!["run", kb, "--fault", "drop:a2@move_block(a2"];
@@ -259,16 +276,12 @@ fn replans_after_a_fault_are_reassigned_too() {
     let (reassigned, searched) = (replanned(&[]), replanned(&["--no-reassign"]));
     // (26.000 against 37.001 when written.)
     assert!(reassigned < searched, "the replan is not reassigned: {reassigned} vs {searched}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn reassigned_schedules_say_so_and_validate() {
-    let dir = std::env::temp_dir().join(format!("kbc-cli-reassign-{}", std::process::id()));
-    let written = kbc(&["bench", "--filter", "reverse_b08_", "--write", dir.to_str().expect("UTF-8 path")]);
-    assert_eq!(written.status.code(), Some(0), "{}", stderr(&written));
-    let kb = dir.join("reverse_b08_a3_s1.pl");
-    let kb = kb.to_str().expect("UTF-8 path");
+    let rung = Rung::write("reverse_b08_a3_s1", "reassign");
+    let kb = rung.kb.as_str();
     let reassigned = kbc(&["plan", kb, "--schedule"]);
     let kept = kbc(&["plan", kb, "--schedule", "--no-reassign"]);
     let (reassigned_text, kept_text) = (stdout(&reassigned), stdout(&kept));
@@ -287,7 +300,6 @@ fn reassigned_schedules_say_so_and_validate() {
         let check = validate_text(kb, text, "reassigned");
         assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -530,7 +530,7 @@ fn run_with_recovery(
         replan: !args.no_replan,
         max_recoveries: args.max_recoveries,
         options: &options,
-        reassign: matches!(args.planning.search, super::plan::SearchArg::Heuristic) && !args.planning.no_reassign,
+        reassign: super::plan::reassigns_search_plans(&args.planning),
         profile: ("simulated-arms", kbvm::sim::PRIMITIVES),
         max_time: args.max_time_units(&program),
         max_ticks: args.max_ticks,

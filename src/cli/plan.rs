@@ -199,9 +199,15 @@ pub(super) fn search_options(args: &PlanningArgs) -> Options {
     }
 }
 
+/// Whether the plans the search finds go through the `reassign` pass: the heuristic search's,
+/// unless `--no-reassign` (for `kbc run`, its replans after a fault too).
+pub(super) fn reassigns_search_plans(args: &PlanningArgs) -> bool {
+    matches!(args.search, SearchArg::Heuristic) && !args.no_reassign
+}
+
 /// Whether the search scores its plans by their makespan after `reassign` (while improving).
 fn scored(args: &PlanningArgs) -> bool {
-    args.plan.is_none() && args.improve.is_some() && matches!(args.search, SearchArg::Heuristic) && !args.no_reassign
+    args.plan.is_none() && args.improve.is_some() && reassigns_search_plans(args)
 }
 
 /// Runs the front end, finds (or reads and checks) a plan and schedules it; on failure the
@@ -295,7 +301,7 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: boo
     // heuristic search's plans go through the `reassign` pass, which remakes its choice of
     // arms and order of jobs where that is shorter; the paper's search and plan files are
     // scheduled as they are.
-    let reassign = args.plan.is_none() && matches!(args.search, SearchArg::Heuristic) && !args.no_reassign;
+    let reassign = args.plan.is_none() && reassigns_search_plans(args);
     // Plans the search scored come shortest last: the last one that can be scheduled is the one.
     let order: Vec<usize> = if scored(args) { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
     // (index, schedule, makespan before `reassign`)
