@@ -11,7 +11,8 @@ use kbc::lsp::position::apply_edit;
 use lsp_types::Range;
 use serde_json::{Value, json};
 
-/// A KB with one mistake: `ontabel` for `ontable` in pick_start's Valid list.
+/// A KB with one mistake: `ontabel` for `ontable` in pick_start's Valid list (warning W0002:
+/// the action can never apply).
 const KB: &str = include_str!("support/one_arm.pl");
 
 fn scratch(name: &str) -> PathBuf {
@@ -54,19 +55,19 @@ fn a_scripted_editing_session() {
     let uri = uri(&path);
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
 
-    // Open a file with an error: its diagnostic arrives, with the code and the fix's hint.
+    // Open a file with a mistake: its diagnostic arrives, with the code and the fix's hint.
     client.open(&uri, KB);
     let published = client.published(&uri);
     assert_eq!(published["version"], 1);
     let diagnostics = published["diagnostics"].as_array().unwrap().clone();
-    assert_eq!(codes(&diagnostics), ["E0210"], "{diagnostics:#?}");
+    assert_eq!(codes(&diagnostics), ["W0002"], "{diagnostics:#?}");
     let unknown = &diagnostics[0];
     assert_eq!(unknown["range"]["start"], position_of(KB, "ontabel", 0));
     assert_eq!(unknown["range"]["end"], position_of(KB, "ontabel", 7));
-    assert_eq!(unknown["severity"], 1);
+    assert_eq!(unknown["severity"], 2);
     assert_eq!(unknown["source"], "kbc");
     let message = unknown["message"].as_str().unwrap();
-    assert!(message.starts_with("unknown predicate `ontabel/1`"), "{message}");
+    assert!(message.starts_with("`ontabel/1` is never in any state"), "{message}");
     assert!(message.contains("help: did you mean `ontable/1`?"), "{message}");
 
     // An incremental edit that adds a second mistake: the updated set holds both.
@@ -99,7 +100,7 @@ fn a_scripted_editing_session() {
         "textDocument/didChange",
         json!({ "textDocument": { "uri": uri, "version": 3 }, "contentChanges": [{ "range": undo, "text": "" }] }),
     );
-    assert_eq!(codes(&client.diagnostics(&uri)), ["E0210"]);
+    assert_eq!(codes(&client.diagnostics(&uri)), ["W0002"]);
 
     // Hover on a state predicate: what adds and deletes it.
     let hover = client.request("textDocument/hover", at(&uri, KB, "holding(A, B)), add", 2)).unwrap();
@@ -116,7 +117,7 @@ fn a_scripted_editing_session() {
     assert!(value.contains("duration: `duration(pick(_, _), 1, 2).`"), "{value}");
     // Hover on the diagnostic: the code's explanation.
     let hover = client.request("textDocument/hover", at(&uri, KB, "ontabel", 3)).unwrap();
-    assert!(hover["contents"]["value"].as_str().unwrap().contains("# E0210"), "{hover:#}");
+    assert!(hover["contents"]["value"].as_str().unwrap().contains("# W0002"), "{hover:#}");
 
     // Go to definition: the goal's `held(b1)` is defined where an action adds it.
     let definition = client.request("textDocument/definition", at(&uri, KB, "[held(b1)]", 2)).unwrap();
@@ -386,7 +387,7 @@ fn quick_fixes_apply_and_the_file_is_rechecked() {
         format!("{}{}", &clean[..start], &clean[end..])
     };
     let cases: Vec<(&str, String, &str, &str)> = vec![
-        ("did-you-mean", KB.to_string(), "E0210", "replace with `ontable`"),
+        ("did-you-mean", KB.to_string(), "W0002", "replace with `ontable`"),
         ("operator", format!("{clean}differ(X, Y) :- X != Y.\n"), "E0107", "replace `!=` with `\\=`"),
         ("period", clean.replace("1, 2).", "1, 2)"), "E0102", "add `.`"),
         ("comma", clean.replace("ontable(B), clear(B)]", "ontable(B) clear(B)]"), "E0109", "add `,`"),

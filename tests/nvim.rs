@@ -47,9 +47,9 @@ fn neovim_receives_diagnostics_hovers_and_sends_incremental_edits() {
     let opened = seen["opened"].as_array().unwrap();
     assert_eq!(opened.len(), 1, "{seen:#}");
     let diagnostic = &opened[0];
-    assert_eq!(diagnostic["code"], "E0210");
+    assert_eq!(diagnostic["code"], "W0002");
     assert_eq!(diagnostic["source"], "kbc");
-    assert_eq!(diagnostic["severity"], 1, "an error");
+    assert_eq!(diagnostic["severity"], 2, "a warning");
     assert_eq!(diagnostic["lnum"], 4);
     // Neovim's columns are bytes: 4 spaces, `/* `, é (2 bytes), 🤖 (4), ` */ `, `[agent(A), `.
     let line = kb.lines().nth(4).unwrap();
@@ -57,7 +57,7 @@ fn neovim_receives_diagnostics_hovers_and_sends_incremental_edits() {
     assert_eq!(diagnostic["col"], line.find("ontabel").unwrap());
     assert_eq!(diagnostic["end_col"], line.find("ontabel").unwrap() + "ontabel".len());
     assert!(diagnostic["message"].as_str().unwrap().contains("did you mean `ontable/1`?"), "{seen:#}");
-    assert!(seen["hover"].as_str().unwrap_or("").contains("# E0210"), "{seen:#}");
+    assert!(seen["hover"].as_str().unwrap_or("").contains("# W0002"), "{seen:#}");
     assert_eq!(seen["steps"]["fixed"], true, "the fix in the buffer did not clear the diagnostic: {seen:#}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -121,6 +121,17 @@ struct CheckArgs {
     /// Print the intermediate representation after this pass on stdout.
     #[arg(long, value_enum, value_name = "PASS")]
     dump_after: Option<DumpPass>,
+    /// Treat these findings as errors: `-D warnings` makes every warning an error (exit
+    /// status 1), for a KB that must be clean.
+    #[arg(short = 'D', long = "deny", value_enum, value_name = "LINT")]
+    deny: Vec<Lint>,
+}
+
+/// Findings `-D`/`--deny` can turn into errors.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Lint {
+    /// Every warning.
+    Warnings,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -258,6 +269,9 @@ fn check(args: CheckArgs, color: bool) -> ExitCode {
     let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
     let mut diagnostics = read_errors;
     diagnostics.extend(frontend.diagnostics);
+    if args.deny.contains(&Lint::Warnings) {
+        diagnostics.deny_warnings();
+    }
     if let Some(pass) = args.dump_after {
         let mut out = std::io::stdout().lock();
         let text = match pass {

@@ -159,6 +159,7 @@ codes! {
     DISCONTIGUOUS = "W0005": "clauses of a predicate not together";
     DEFAULT_DURATION = "W0006": "a durative action without a duration";
     EXPORT_LEAVES_OUT = "W0007": "a KB part the PDDL export leaves out";
+    ARITY_NEVER_MATCHES = "W0008": "a state literal with an arity no state fact has";
 }
 
 #[cfg(test)]

@@ -173,6 +173,19 @@ impl Diagnostics {
         self.items.iter().any(Diagnostic::is_error)
     }
 
+    /// Turns every warning into an error (`-D warnings`), with a note that says why, as rustc
+    /// does for `#[deny(warnings)]`. Notes stay notes.
+    pub fn deny_warnings(&mut self) {
+        let mut first = true;
+        for diagnostic in self.items.iter_mut().filter(|d| d.severity == Severity::Warning) {
+            diagnostic.severity = Severity::Error;
+            if first {
+                diagnostic.notes.push("`-D warnings` turns every warning into an error".to_string());
+                first = false;
+            }
+        }
+    }
+
     /// The number of errors.
     pub fn error_count(&self) -> usize {
         self.items.iter().filter(|d| d.is_error()).count()

@@ -153,7 +153,13 @@ impl<'a> Checker<'a> {
         for diagnostic in frontend.diagnostics.iter() {
             let in_draft = diagnostic.labels.iter().any(|l| l.span.file == draft);
             if diagnostic.code.is_some() && (in_draft || diagnostic.labels.is_empty() && diagnostic.is_error()) {
-                diagnostics.push(diagnostic.clone());
+                let mut diagnostic = diagnostic.clone();
+                // A condition that never matches runs in Prolog, so `kbc check` only warns;
+                // in a draft it is a mistake the model must fix.
+                if matches!(diagnostic.code, Some(codes::NEVER_PRODUCED | codes::ARITY_NEVER_MATCHES)) {
+                    diagnostic.severity = crate::diag::Severity::Error;
+                }
+                diagnostics.push(diagnostic);
             }
         }
         let (kb, interner) = (&frontend.kb, &frontend.interner);

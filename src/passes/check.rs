@@ -134,10 +134,11 @@ impl StateUse {
         }
     }
 
-    /// A misspelt Valid condition or goal makes the action or problem impossible; an unknown
-    /// Invalid condition or deletion only does nothing, so it is a warning.
+    /// A goal on a predicate no state holds makes the problem impossible; a condition or a
+    /// deletion on one only never matches (a Valid condition: its action never applies),
+    /// which Prolog runs without complaint, so it is a warning.
     fn is_error(self) -> bool {
-        matches!(self, StateUse::Valid | StateUse::Goal)
+        matches!(self, StateUse::Goal)
     }
 }
 
@@ -409,7 +410,16 @@ impl Checker<'_> {
         let state_names = self.vocabulary.state_names();
         let arities = self.other_arities(key, &state_names);
         if !arities.is_empty() {
-            self.wrong_arity(literal, key, &arities, "initial states and effects use");
+            // A goal literal of that arity can never hold: no plan exists. A condition or a
+            // deletion of that arity never matches, which Prolog runs without complaint.
+            let note = match used {
+                StateUse::Goal => None,
+                StateUse::Valid => {
+                    Some(format!("no state fact is `{indicator}`, so this never matches and the action never applies"))
+                }
+                _ => Some(format!("no state fact is `{indicator}`, so this never matches")),
+            };
+            self.wrong_arity(literal, key, &arities, "initial states and effects use", note);
             return;
         }
         let message = match used {
@@ -426,6 +436,9 @@ impl Checker<'_> {
         }
         .primary(literal.name_span, format!("used in {}", used.describe()))
         .with_note("state facts come from init states and `add` effects; no init state holds it and no action adds it");
+        if used == StateUse::Valid {
+            diagnostic = diagnostic.with_note("so this action can never apply");
+        }
         if self.vocabulary.static_defined.contains(&key) {
             diagnostic = diagnostic
                 .with_note(format!(
@@ -480,7 +493,8 @@ impl Checker<'_> {
         }
         let arities = self.other_arities(key, &self.vocabulary.used_by_actions);
         if !arities.is_empty() {
-            self.wrong_arity(literal, key, &arities, "the actions use");
+            let note = format!("no action reads `{}` facts, so this one is never used", self.indicator(key));
+            self.wrong_arity(literal, key, &arities, "the actions use", Some(note));
             return;
         }
         let indicator = self.indicator(key);
@@ -499,21 +513,35 @@ impl Checker<'_> {
         }
     }
 
-    fn wrong_arity(&mut self, literal: &Literal, key: Key, arities: &[usize], where_: &str) {
+    /// A literal whose predicate is used elsewhere with other arities: an error (E0211)
+    /// where it makes the KB fail (a goal, a call Prolog would find undefined); a warning
+    /// (W0008) with `warning_note` saying what it does where it only never matches (a state
+    /// condition, a deletion, an unused fact).
+    fn wrong_arity(
+        &mut self,
+        literal: &Literal,
+        key: Key,
+        arities: &[usize],
+        where_: &str,
+        warning_note: Option<String>,
+    ) {
         let name = self.name(key.0).to_string();
         let list = arities.iter().map(|a| format!("`{name}/{a}`")).collect::<Vec<_>>();
+        let message = format!(
+            "`{name}` is used with {} here, but elsewhere with {}",
+            plural(key.1, "argument"),
+            join_or(arities)
+        );
+        let diagnostic = match warning_note {
+            None => Diagnostic::error(codes::WRONG_ARITY, message),
+            Some(note) => Diagnostic::warning(codes::ARITY_NEVER_MATCHES, message).with_note(note),
+        };
+        let unit = if arities == [1] { "argument" } else { "arguments" };
         self.diags.push(
-            Diagnostic::error(
-                codes::WRONG_ARITY,
-                format!(
-                    "`{name}` is used with {} here, but elsewhere with {}",
-                    plural(key.1, "argument"),
-                    join_or(arities)
-                ),
-            )
-            .primary(literal.span, plural(key.1, "argument"))
-            .with_note(format!("{where_} {}", join_and(&list)))
-            .with_help(format!("write `{name}` with {} arguments", join_or(arities))),
+            diagnostic
+                .primary(literal.span, plural(key.1, "argument"))
+                .with_note(format!("{where_} {}", join_and(&list)))
+                .with_help(format!("write `{name}` with {} {unit}", join_or(arities))),
         );
     }
 
@@ -556,7 +584,7 @@ impl Checker<'_> {
             [(sym::MEMBER, 2), (sym::TRUE, 0), (sym::FAIL, 0), (sym::NOT, 1)].into_iter().collect();
         let arities = self.other_arities(key, &kb_names.union(&builtin_keys).copied().collect());
         if !arities.is_empty() {
-            self.wrong_arity(literal, key, &arities, "the KB defines");
+            self.wrong_arity(literal, key, &arities, "the KB defines", None);
             return;
         }
         let indicator = self.indicator(key);
