@@ -258,15 +258,14 @@ fn check(
     let (plan, timed) =
         if reassign { driver::reassign(kb, interner, &program, task, plan, timed) } else { (plan, timed) };
     let span = kb.problems[plan.problem].span;
-    let steps: Vec<validate::PlanStep> =
-        plan.steps.iter().map(|s| validate::PlanStep { name: s.name.clone(), span, timing: None }).collect();
+    let steps = validate::PlanStep::of_plan(kb, &plan, span);
     let verdict = validate::validate(kb, interner, &program, plan.problem, &steps);
     if verdict.diagnostics.has_errors() {
         return Err(format!("INVALID PLAN (a planner bug): {}", first_error(&verdict.diagnostics)));
     }
     let timed_steps: Vec<validate::PlanStep> = crate::ir::schedule::timed_actions(kb, &timed.pop, &timed.schedule)
         .into_iter()
-        .map(|a| validate::PlanStep { name: a.name, span, timing: Some((a.time, a.duration)) })
+        .map(|a| validate::PlanStep { timing: Some((a.time, a.duration)), ..validate::PlanStep::named(a.name, span) })
         .collect();
     let verdict = validate::validate_timed(kb, interner, &program, plan.problem, &timed_steps);
     if verdict.diagnostics.has_errors() {

@@ -9,15 +9,17 @@
 //! A step applies when some schema whose name unifies with the step has, under some bindings,
 //! its Valid literals in the state, its OnKB goals provable, no state fact matching an Invalid
 //! literal and no goal literal unifying with an InvalidAtEnd literal; an end must end a
-//! running start. Every such way of applying the step must lead to the same state, or the step
-//! is ambiguous. The plan is valid when every step applies, the final state satisfies the goal
-//! (its literals, sharing variables, all match facts) and no durative action is still running.
+//! running start, and a start may not begin an action that is already running. A plan file
+//! does not give the values of variables a step's name leaves out, so a step may lead to
+//! several states; the replay follows each (up to a bound). The plan is valid when some way of
+//! applying its steps reaches a final state that satisfies the goal (its literals, sharing
+//! variables, all match facts) with no durative action still running.
 
 use std::collections::BTreeSet;
 
 use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::engine::{Cell, Machine, Next, Program};
-use crate::intern::{Interner, sym};
+use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{self, Action, EffectKind, Kb, Level, Snap, Term};
 use crate::ir::plan::{Plan, Step};
 use crate::ir::unify::unifiable;
@@ -35,6 +37,47 @@ pub struct PlanStep {
     /// In a timed plan, when it starts and (for a durative action) how long it lasts, in STN
     /// time (thousandths of a time unit).
     pub timing: Option<(i64, Option<i64>)>,
+    /// Values of schema variables the name leaves out, by variable name, from a trailing
+    /// `% with V = t, ...` comment (`kbc plan` writes one where such a variable reaches an
+    /// effect): a schema with a variable of that name applies only with that value.
+    pub with: Vec<(Symbol, Term)>,
+}
+
+impl PlanStep {
+    /// A step with only a name.
+    pub fn named(name: Term, span: Span) -> PlanStep {
+        PlanStep { name, span, timing: None, with: Vec::new() }
+    }
+
+    /// The steps of an in-memory plan, with the values of their hidden variables, for
+    /// [`validate`].
+    pub fn of_plan(kb: &Kb, plan: &Plan, span: Span) -> Vec<PlanStep> {
+        plan.steps
+            .iter()
+            .map(|step| PlanStep { with: hidden_bindings(kb, step), ..PlanStep::named(step.name.clone(), span) })
+            .collect()
+    }
+}
+
+/// The variables of a step's schema that its name leaves out but an effect uses, with their
+/// values: what a plan file must say for the step to mean one state change.
+pub fn hidden_bindings(kb: &Kb, step: &Step) -> Vec<(Symbol, Term)> {
+    let action = &kb.actions[step.action];
+    let mut in_name = Vec::new();
+    action.name.term.for_each_var(&mut |v| in_name.push(v));
+    let mut out: Vec<(Symbol, Term)> = Vec::new();
+    for effect in &action.effects {
+        effect.literal.term.for_each_var(&mut |v| {
+            let name = action.vars.get(v).name;
+            if !in_name.contains(&v)
+                && !out.iter().any(|(n, _)| *n == name)
+                && let Some(Some(value)) = step.bindings.get(v.0 as usize)
+            {
+                out.push((name, value.clone()));
+            }
+        });
+    }
+    out
 }
 
 /// A time as PDDL plans write it (`12`, `1.5`, `0.001`), in thousandths; `None` if it is not
@@ -123,7 +166,7 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
             }
             match parse_step(&term_text, interner) {
                 Some(name) if name.callable().is_some() => {
-                    steps.push(PlanStep { name, span, timing: Some((time, duration)) })
+                    steps.push(PlanStep { timing: Some((time, duration)), ..PlanStep::named(name, span) })
                 }
                 _ => diags.push(
                     Diagnostic::error(codes::BAD_PLAN_FILE, "expected a ground action such as `(grip a1 b2)`")
@@ -133,6 +176,22 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
             }
             continue;
         }
+        // A trailing `% with V = t, ...` gives values of variables the name leaves out.
+        let (trimmed, with) = match trimmed.split_once("% with ") {
+            Some((step, with)) => match parse_with(with, interner) {
+                Some(with) => (step.trim_end(), with),
+                None => {
+                    let at = line_start + (with.as_ptr() as usize - line.as_ptr() as usize);
+                    diags.push(
+                        Diagnostic::error(codes::BAD_PLAN_FILE, "expected `% with Var = value, ...`")
+                            .primary(Span::new(file, at as u32, (at + with.len()) as u32), "not variable bindings")
+                            .with_note("the comment gives values of variables the action's name leaves out"),
+                    );
+                    continue;
+                }
+            },
+            None => (trimmed, Vec::new()),
+        };
         // Skip a step number such as `12 ` and a final `.`.
         let after_number = trimmed.trim_start_matches(|c: char| c.is_ascii_digit());
         let term_text = match after_number.strip_prefix(char::is_whitespace) {
@@ -152,7 +211,7 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
             continue;
         }
         match parse_step(term_text, interner) {
-            Some(name) if name.callable().is_some() => steps.push(PlanStep { name, span, timing: None }),
+            Some(name) if name.callable().is_some() => steps.push(PlanStep { with, ..PlanStep::named(name, span) }),
             Some(_) => diags.push(
                 Diagnostic::error(codes::BAD_PLAN_FILE, "expected an action, found a term that is not one")
                     .primary(span, "not an atom or compound term"),
@@ -165,6 +224,27 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
         }
     }
     steps
+}
+
+/// Parses `V = t, W = u` (the text after `% with `): variable names and ground values.
+fn parse_with(text: &str, interner: &mut Interner) -> Option<Vec<(Symbol, Term)>> {
+    let mut diags = Diagnostics::new();
+    let ast = crate::syntax::parse_source(FileId(u32::MAX), &format!("with([{text}])."), interner, &mut diags);
+    if diags.has_errors() || ast.clauses.len() != 1 {
+        return None;
+    }
+    let ast::TermKind::Compound(with) = &ast.clauses[0].term.kind else { return None };
+    let ast::TermKind::List(list) = &with.args.first()?.kind else { return None };
+    list.items
+        .iter()
+        .map(|item| match &item.kind {
+            ast::TermKind::Compound(eq) if eq.functor == sym::EQ && eq.args.len() == 2 => match &eq.args[0].kind {
+                ast::TermKind::Var(name) => Some((*name, lower_ground(&eq.args[1])?)),
+                _ => None,
+            },
+            _ => None,
+        })
+        .collect()
 }
 
 /// Parses one step as a ground term; `None` if it is not one.
@@ -316,7 +396,8 @@ impl Replayer<'_, '_> {
     }
 
     /// Every state `step` can lead to, or why it leads nowhere.
-    fn successors(&mut self, state: &State, step: &Term) -> Result<Vec<State>, Option<Miss>> {
+    /// `with` gives values of variables the name leaves out (see [`PlanStep::with`]).
+    fn successors(&mut self, state: &State, step: &Term, with: &[(Symbol, Term)]) -> Result<Vec<State>, Option<Miss>> {
         let mut found = Found::default();
         for (index, action) in self.kb.actions.iter().enumerate() {
             if action.level != Level::High {
@@ -324,6 +405,21 @@ impl Replayer<'_, '_> {
             }
             let mut bindings: Bindings = vec![None; action.vars.len()];
             if !matches(&action.name.term, step, &mut bindings) {
+                continue;
+            }
+            let agrees = with.iter().all(|(name, value)| {
+                match action.vars.vars.iter().position(|v| v.name == *name && self.interner.resolve(*name) != "_") {
+                    None => true,
+                    Some(v) => match &bindings[v] {
+                        Some(bound) => resolve(bound, &bindings) == *value,
+                        None => {
+                            bindings[v] = Some(value.clone());
+                            true
+                        }
+                    },
+                }
+            });
+            if !agrees {
                 continue;
             }
             let running = if action.snap == Snap::End {
@@ -339,6 +435,20 @@ impl Replayer<'_, '_> {
                 }
                 Some(started)
             } else {
+                if action.snap == Snap::Start {
+                    let started = start_key(self.interner, action, &bindings);
+                    if state.running.contains(&started) {
+                        found.miss.get_or_insert(Miss {
+                            action: index,
+                            reason: format!(
+                                "it starts `{started}`, which is already running (an action does not overlap itself)"
+                            ),
+                            span: action.name.span,
+                            label: "this schema",
+                        });
+                        continue;
+                    }
+                }
                 None
             };
             let before = found.results.len();
@@ -543,58 +653,95 @@ fn start_key(interner: &Interner, action: &Action, bindings: &Bindings) -> Strin
     key(interner, &running)
 }
 
+/// The most states a replay follows at once: a plan file names each step but not the values
+/// of the variables its name leaves out (`i` for `action(i, [q(C)], ...)`), so a step can lead
+/// to several states, and the replay follows each of them.
+const MAX_BRANCHES: usize = 256;
+
 /// Replays `steps` on problem `problem` of `kb`.
+///
+/// A step that several schemas or bindings apply to with different effects leads to several
+/// states: the plan is valid when some way of applying its steps reaches the goal, and the
+/// verdict's plan is the first such way (states in a fixed order, so the choice is
+/// deterministic).
 pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize, steps: &[PlanStep]) -> Verdict {
     let mut replayer = Replayer { kb, interner, problem, machine: Machine::new(program, 1_000_000) };
     let mut diagnostics = Diagnostics::new();
-    let mut state = replayer.initial_state();
-    let mut plan = Plan { problem, steps: Vec::new() };
+    // Each branch: a state and the steps that led to it.
+    let mut branches: Vec<(State, Vec<Step>)> = vec![(replayer.initial_state(), Vec::new())];
     let no_vars = hir::VarTable::default();
     for (i, step) in steps.iter().enumerate() {
         let shown = hir::term_to_string(interner, &step.name, &no_vars);
-        match replayer.successors(&state, &step.name) {
-            Ok(mut next) if next.len() == 1 => {
-                state = next.remove(0);
-                if let Some((action, bindings)) = state.via.take() {
-                    plan.steps.push(Step { action, name: step.name.clone(), bindings });
-                }
-            }
-            Ok(next) => {
-                diagnostics.push(
-                    Diagnostic::error(codes::INVALID_PLAN, format!("step {} `{shown}` is ambiguous", i + 1))
-                        .primary(step.span, format!("{} different states can follow", next.len()))
-                        .with_note("several schemas or bindings apply to this step with different effects")
-                        .with_help("give the schemas distinct names, or make their conditions exclusive"),
-                );
-                return Verdict { diagnostics, applied: i, plan };
-            }
-            Err(miss) => {
-                let mut diagnostic =
-                    Diagnostic::error(codes::INVALID_PLAN, format!("step {} `{shown}` does not apply", i + 1)).primary(
-                        step.span,
-                        if i == 0 {
-                            "not applicable in the initial state"
-                        } else {
-                            "not applicable after the steps before it"
-                        },
-                    );
-                match miss {
-                    Some(miss) => {
-                        let action = interner.resolve(kb.actions[miss.action].name.name());
-                        diagnostic = diagnostic
-                            .secondary(miss.span, miss.label)
-                            .with_note(format!("`{action}`: {}", miss.reason));
+        let mut next_branches: Vec<(State, Vec<Step>)> = Vec::new();
+        let mut first_miss = None;
+        for (state, taken) in &branches {
+            match replayer.successors(state, &step.name, &step.with) {
+                Ok(next) => {
+                    for mut next in next {
+                        let mut taken = taken.clone();
+                        if let Some((action, bindings)) = next.via.take() {
+                            taken.push(Step { action, name: step.name.clone(), bindings });
+                        }
+                        if !next_branches.iter().any(|(s, _)| s.identity() == next.identity()) {
+                            next_branches.push((next, taken));
+                        }
                     }
-                    None => diagnostic = diagnostic.with_note("no action schema has this name and arity"),
                 }
-                let facts: Vec<&String> = state.facts.iter().collect();
-                let listed: Vec<String> = facts.iter().take(12).map(|f| f.to_string()).collect();
-                let more = if facts.len() > 12 { format!(", and {} more", facts.len() - 12) } else { String::new() };
-                diagnostics.push(diagnostic.with_note(format!("the state is [{}{more}]", listed.join(", "))));
-                return Verdict { diagnostics, applied: i, plan };
+                Err(miss) => {
+                    if first_miss.is_none() {
+                        first_miss = Some((miss, state.clone()));
+                    }
+                }
             }
         }
+        if next_branches.len() > MAX_BRANCHES {
+            diagnostics.push(
+                Diagnostic::error(codes::INVALID_PLAN, format!("step {} `{shown}` is too ambiguous to replay", i + 1))
+                    .primary(step.span, format!("{} different states can follow", next_branches.len()))
+                    .with_note(format!(
+                        "the plan file does not say which values this step's variables take, and more than \
+                         {MAX_BRANCHES} states are possible after it"
+                    ))
+                    .with_help("give the schemas distinct names, or name the variables that matter in the action"),
+            );
+            return Verdict { diagnostics, applied: i, plan: Plan { problem, steps: Vec::new() } };
+        }
+        if next_branches.is_empty() {
+            let (miss, state) = first_miss.expect("every branch failed");
+            let mut diagnostic = Diagnostic::error(
+                codes::INVALID_PLAN,
+                format!("step {} `{shown}` does not apply", i + 1),
+            )
+            .primary(
+                step.span,
+                if i == 0 { "not applicable in the initial state" } else { "not applicable after the steps before it" },
+            );
+            match miss {
+                Some(miss) => {
+                    let action = interner.resolve(kb.actions[miss.action].name.name());
+                    diagnostic =
+                        diagnostic.secondary(miss.span, miss.label).with_note(format!("`{action}`: {}", miss.reason));
+                }
+                None => diagnostic = diagnostic.with_note("no action schema has this name and arity"),
+            }
+            let facts: Vec<&String> = state.facts.iter().collect();
+            let listed: Vec<String> = facts.iter().take(12).map(|f| f.to_string()).collect();
+            let more = if facts.len() > 12 { format!(", and {} more", facts.len() - 12) } else { String::new() };
+            diagnostics.push(diagnostic.with_note(format!("the state is [{}{more}]", listed.join(", "))));
+            let taken = branches.swap_remove(0).1;
+            return Verdict { diagnostics, applied: i, plan: Plan { problem, steps: taken } };
+        }
+        next_branches.sort_by(|a, b| a.0.identity().cmp(&b.0.identity()));
+        branches = next_branches;
     }
+    if let Some(done) = branches.iter().position(|(state, _)| state.running.is_empty() && replayer.goal_reached(state))
+    {
+        let taken = branches.swap_remove(done).1;
+        return Verdict { diagnostics, applied: steps.len(), plan: Plan { problem, steps: taken } };
+    }
+    // No branch reaches the goal: explain with the first.
+    let (state, taken) = branches.swap_remove(0);
+    let plan = Plan { problem, steps: taken };
     let problem = &kb.problems[problem];
     let problem_name = interner.resolve(problem.name);
     if !state.running.is_empty() {
@@ -603,7 +750,7 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
                 .with_note("every durative action started must end")
                 .with_help("add the missing `_end` steps"),
         );
-    } else if !replayer.goal_reached(&state) {
+    } else {
         let missing: Vec<String> = problem
             .goal
             .iter()
@@ -761,7 +908,7 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
             let mut current = state.clone();
             let sequence: Vec<&Event> = if order { group.iter().rev().collect() } else { group.iter().collect() };
             for event in sequence {
-                match replayer.successors(&current, &event.name) {
+                match replayer.successors(&current, &event.name, &[]) {
                     Ok(mut next) if next.len() == 1 => current = next.remove(0),
                     outcome => {
                         let shown = hir::term_to_string(interner, &event.name, &no_vars);

@@ -39,8 +39,7 @@ fn plan(frontend: &Frontend, problem: usize, search: SearchKind) -> Plan {
 /// Replays `plan` with the validator; panics with its diagnostic if it is not a solution.
 fn assert_valid(frontend: &Frontend, problem: usize, plan: &Plan) {
     let span = frontend.kb.problems[problem].span;
-    let steps: Vec<PlanStep> =
-        plan.steps.iter().map(|s| PlanStep { name: s.name.clone(), span, timing: None }).collect();
+    let steps = PlanStep::of_plan(&frontend.kb, plan, span);
     let program = planner::program_for(&frontend.kb, problem);
     let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
     assert!(!verdict.diagnostics.has_errors(), "invalid plan: {:?}", common::messages(&verdict.diagnostics));

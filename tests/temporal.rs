@@ -41,7 +41,7 @@ fn assert_schedule_valid(frontend: &Frontend, timed: &Timed, times: &[i64]) {
     let schedule = schedule::Schedule { earliest: times.to_vec(), latest: times.to_vec(), makespan: 0 };
     let steps: Vec<PlanStep> = schedule::timed_actions(kb, &timed.pop, &schedule)
         .into_iter()
-        .map(|a| PlanStep { name: a.name, span, timing: Some((a.time, a.duration)) })
+        .map(|a| PlanStep { timing: Some((a.time, a.duration)), ..PlanStep::named(a.name, span) })
         .collect();
     let program = planner::program_for(kb, timed.pop.problem);
     let verdict = validate::validate_timed(kb, &frontend.interner, &program, timed.pop.problem, &steps);
@@ -103,8 +103,7 @@ fn assert_linearisations_valid(frontend: &Frontend, plan: &Plan, timed: &Timed, 
     let program = planner::program_for(kb, plan.problem);
     for seed in 0..samples {
         let order = linearisation(&timed.pop, seed);
-        let steps: Vec<PlanStep> =
-            order.iter().map(|&i| PlanStep { name: plan.steps[i].name.clone(), span, timing: None }).collect();
+        let steps: Vec<PlanStep> = order.iter().map(|&i| PlanStep::named(plan.steps[i].name.clone(), span)).collect();
         let verdict = validate::validate(kb, &frontend.interner, &program, plan.problem, &steps);
         assert!(
             !verdict.diagnostics.has_errors(),
@@ -440,8 +439,7 @@ fn reassigning_jobs_keeps_plans_valid_and_never_makes_them_longer() {
         // Valid for the independent validator, as a total order, as a schedule, and in any
         // order its partial order allows.
         let span = kb.problems[0].span;
-        let steps: Vec<PlanStep> =
-            reassigned.steps.iter().map(|s| PlanStep { name: s.name.clone(), span, timing: None }).collect();
+        let steps: Vec<PlanStep> = PlanStep::of_plan(&frontend.kb, &reassigned, span);
         let verdict = validate::validate(kb, &frontend.interner, &program, 0, &steps);
         assert!(!verdict.diagnostics.has_errors(), "{}: {:?}", rung.name(), common::messages(&verdict.diagnostics));
         let rescheduled = timed(&frontend, &reassigned);

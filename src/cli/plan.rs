@@ -405,7 +405,7 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
     let figures = Figures::of(&timed, stats.as_ref(), index, plans.len());
     let text = match args.format {
         OutputFormat::Text if args.schedule => schedule_text(interner, kb, &timed, &problem_name, &origin, &figures),
-        OutputFormat::Text => plan_text(interner, &mut task, plan, &problem_name, &origin, &figures, args.trace),
+        OutputFormat::Text => plan_text(interner, kb, &mut task, plan, &problem_name, &origin, &figures, args.trace),
         OutputFormat::Json => plan_json(kb, interner, plan, &timed, &problem_name, &origin, &figures),
     };
     print_out(&text);
@@ -471,8 +471,10 @@ pub(super) fn stats_line(stats: &Stats) -> String {
     )
 }
 
+#[allow(clippy::too_many_arguments)]
 fn plan_text(
     interner: &crate::intern::Interner,
+    kb: &Kb,
     task: &mut crate::ir::task::Task,
     plan: &Plan,
     problem: &str,
@@ -499,7 +501,7 @@ fn plan_text(
             out.push_str(&format!("% {:>width$}  state: {}\n", "", show(state, task)));
         }
     } else {
-        out.push_str(&plan::print(interner, plan));
+        out.push_str(&plan::print(interner, kb, plan));
     }
     out.push_str(&format!("% {}\n", figures.line()));
     out

@@ -28,13 +28,27 @@ pub struct Plan {
     pub steps: Vec<Step>,
 }
 
-/// The plan as numbered lines, the paper's table style: `  1  grip_start(a1, b2)`.
-pub fn print(interner: &Interner, plan: &Plan) -> String {
+/// The plan as numbered lines, the paper's table style: `  1  grip_start(a1, b2)`. A step
+/// whose schema has a variable that its name leaves out and an effect uses gets its value in
+/// a comment, `  3  i  % with C = b`, which `kbc validate` reads: without it the line would
+/// not say which state change the step makes.
+pub fn print(interner: &Interner, kb: &Kb, plan: &Plan) -> String {
     let mut out = String::new();
     let width = plan.steps.len().to_string().len();
     let no_vars = VarTable::default();
     for (i, step) in plan.steps.iter().enumerate() {
-        let _ = writeln!(out, "{:>width$}  {}", i + 1, hir::term_to_string(interner, &step.name, &no_vars));
+        let _ = write!(out, "{:>width$}  {}", i + 1, hir::term_to_string(interner, &step.name, &no_vars));
+        let hidden = crate::validate::hidden_bindings(kb, step);
+        if !hidden.is_empty() {
+            let shown: Vec<String> = hidden
+                .iter()
+                .map(|(name, value)| {
+                    format!("{} = {}", interner.resolve(*name), hir::term_to_string(interner, value, &no_vars))
+                })
+                .collect();
+            let _ = write!(out, "  % with {}", shown.join(", "));
+        }
+        out.push('\n');
     }
     out
 }

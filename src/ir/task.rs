@@ -127,6 +127,8 @@ pub struct FactId(pub u32);
 pub struct Facts {
     preds: Vec<(Symbol, u32)>,
     pred_map: rustc_hash::FxHashMap<(Symbol, u32), PredId>,
+    /// The running-action predicates (see [`Facts::running_pred`]), by base name and arity.
+    running_map: rustc_hash::FxHashMap<(Symbol, u32), PredId>,
     /// Per fact: predicate, start of its arguments in `args`.
     facts: Vec<(PredId, u32)>,
     args: Vec<ConstId>,
@@ -151,6 +153,27 @@ impl Facts {
         self.preds.push(key);
         self.pred_map.insert(key, id);
         id
+    }
+
+    /// The predicate that says "durative action `base` is running with these arguments",
+    /// interning it if new. It is apart from every fluent (a fluent may share the name), and
+    /// no state holds its facts: states keep running actions in [`State::running`]. The
+    /// relaxation reads it, so that a start adds `base(Args)` and an end needs it, which is
+    /// how an end's head takes the values of the start it closes.
+    pub fn running_pred(&mut self, base: Symbol, arity: usize) -> PredId {
+        let key = (base, arity as u32);
+        if let Some(&id) = self.running_map.get(&key) {
+            return id;
+        }
+        let id = PredId(self.preds.len() as u32);
+        self.preds.push(key);
+        self.running_map.insert(key, id);
+        id
+    }
+
+    /// The running-action predicate of `base/arity`, if interned.
+    pub fn find_running_pred(&self, base: Symbol, arity: usize) -> Option<PredId> {
+        self.running_map.get(&(base, arity as u32)).copied()
     }
 
     /// The predicate `name/arity` if it has been interned.
@@ -293,6 +316,13 @@ pub struct Schema {
     /// For each Valid literal, whether it takes a unit of a renewable resource (it unifies
     /// with a `resources/1` template, as `available(A)` does).
     pub resource_valid: Box<[bool]>,
+    /// For a start or end of a durative pair whose end has a name variable its Valid list
+    /// does not bind: the running-action literal (on [`Facts::running_pred`]) with the name's
+    /// arguments, which the relaxation has the start add and the end need, so the end's name
+    /// takes the start's values. `None` for instantaneous actions and for pairs whose ends
+    /// bind their whole name themselves. (The search matches ends against
+    /// [`State::running`] in every case.)
+    pub running: Option<LiteralPattern>,
 }
 
 /// A state: facts (sorted by predicate, then fact id) and running durative actions.
@@ -385,6 +415,16 @@ pub struct Task {
 }
 
 impl Task {
+    /// A running action `base(args)` as a fact of its running-action predicate; `None` if no
+    /// schema starts such an action.
+    pub fn running_fact(&self, running: ConstId) -> Option<(PredId, &[ConstId])> {
+        match self.consts.get(running) {
+            Const::Atom(base) => Some((self.facts.find_running_pred(*base, 0)?, &[])),
+            Const::Compound(base, args) => Some((self.facts.find_running_pred(*base, args.len())?, args)),
+            _ => None,
+        }
+    }
+
     /// Writes a pattern with variables named by `vars`.
     pub fn pattern_to_term(&self, pattern: &Pattern) -> Term {
         match pattern {
@@ -483,6 +523,14 @@ pub fn verify(task: &Task) -> Result<(), String> {
             return Err(format!("schema #{i}: a resource flag per Valid literal expected"));
         }
         schema.effects.iter().try_for_each(|(_, l)| check(l))?;
+        if let Some(running) = &schema.running {
+            check(running)?;
+            if (schema.snap == Snap::Instant)
+                || task.facts.find_running_pred(schema.base, running.args.len()) != Some(running.pred)
+            {
+                return Err(format!("schema #{i}: running literal on the wrong predicate"));
+            }
+        }
     }
     for literal in &task.goal {
         literal.args.iter().try_for_each(|a| pattern(a, task.goal_vars, consts))?;

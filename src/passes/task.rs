@@ -5,7 +5,7 @@
 //! becomes a conjunction of patterns over its own variables. Nothing else is grounded: which
 //! actions apply is decided lifted, state by state, by `planner::successors`.
 
-use crate::ir::hir::{Kb, Level, Literal, Term};
+use crate::ir::hir::{Kb, Level, Literal, Snap, Term};
 use crate::ir::task::{Const, ConstId, Consts, Facts, LiteralPattern, Pattern, Schema, State, Task};
 
 /// Compiles problem number `problem` of `kb`.
@@ -43,6 +43,13 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
                 }
             }
         }
+        // The running literal of a durative snap action: the name's arguments. (A start and
+        // an end of one action with different arities are unrelated actions: they get
+        // different running predicates, and an end whose start is missing never applies.)
+        let running = (action.snap != Snap::Instant).then(|| {
+            let args: Box<[Pattern]> = action.name.term.args().iter().map(|a| compile(&mut consts, a)).collect();
+            LiteralPattern { pred: facts.running_pred(action.base, args.len()), args, span: action.name.span }
+        });
         schemas.push(Schema {
             action: index,
             name: compile(&mut consts, &action.name.term),
@@ -56,7 +63,30 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
             effects,
             resource_vars: resource_vars.into_boxed_slice(),
             resource_valid: resource_valid.into_boxed_slice(),
+            running,
         });
+    }
+    // The relaxation needs the running literal only where an end's name has a variable its
+    // Valid list does not bind: that variable takes the start's value. Elsewhere the end's
+    // Valid literals already say everything the running start would, and leaving the literal
+    // out keeps the relaxation as small as the KB.
+    let mut needed: Vec<(crate::intern::Symbol, usize)> = Vec::new();
+    for schema in schemas.iter().filter(|s| s.snap == Snap::End) {
+        let Some(running) = &schema.running else { continue };
+        let mut bound = Vec::new();
+        for literal in schema.valid.iter() {
+            literal.args.iter().for_each(|a| pattern_vars(a, &mut bound));
+        }
+        let mut own = Vec::new();
+        running.args.iter().for_each(|a| pattern_vars(a, &mut own));
+        if own.iter().any(|v| !bound.contains(v)) {
+            needed.push((schema.base, running.args.len()));
+        }
+    }
+    for schema in &mut schemas {
+        if schema.running.as_ref().is_some_and(|r| !needed.contains(&(schema.base, r.args.len()))) {
+            schema.running = None;
+        }
     }
     let problem_hir = &kb.problems[problem];
     let init: Vec<_> = problem_hir
@@ -92,6 +122,14 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
             .collect(),
         goal_terms: problem_hir.goal.iter().map(|l| l.term.clone()).collect(),
         max_depth: problem_hir.max_depth,
+    }
+}
+
+fn pattern_vars(pattern: &Pattern, out: &mut Vec<u32>) {
+    match pattern {
+        Pattern::Const(_) => {}
+        Pattern::Var(v) => out.push(*v),
+        Pattern::Compound(_, args) => args.iter().for_each(|a| pattern_vars(a, out)),
     }
 }
 

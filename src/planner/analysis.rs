@@ -24,6 +24,7 @@ use crate::engine::{Machine, Program};
 use crate::intern::Interner;
 use crate::ir::hir::{self, EffectKind, Kb, Term};
 use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Task};
+use crate::ir::unify::unifiable;
 
 /// A predicate with one counted argument position.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -158,7 +159,9 @@ pub fn exclusive_goals(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diag
             let Some(Pattern::Const(x)) = counted(group, a) else { continue };
             for (j, b) in task.goal.iter().enumerate().skip(i + 1) {
                 let Some(Pattern::Const(y)) = counted(group, b) else { continue };
-                if x != y || (a.pred == b.pred && a.args == b.args) {
+                // One fact can satisfy two literals of one predicate that unify (`q(a, b)` and
+                // its generalisation `q(a, _)`): only literals no single atom satisfies clash.
+                if x != y || (a.pred == b.pred && unifiable(&problem.goal[i].term, &problem.goal[j].term)) {
                     continue;
                 }
                 let show = |k: usize| hir::term_to_string(interner, &problem.goal[k].term, &problem.vars);
@@ -183,21 +186,24 @@ pub fn exclusive_goals(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diag
 }
 
 /// A goal literal that asks for a unit of a renewable resource (`available(a2)` under
-/// `resources(available(_))`) the task never has: no initial fact and no action effect names
-/// it. Units are taken and given back by actions, never created, so the relaxation (which
-/// treats units as interchangeable) cannot see this; checked here instead, as E0306.
+/// `resources(available(_))`) the task never has: no initial fact names it and no action can
+/// add a fact of its predicate with that value (an effect with the value, or a variable, at
+/// that position). The relaxation (which treats units as interchangeable) cannot see this, so
+/// it is checked here instead, as E0306.
 pub fn missing_units(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diagnostic> {
     let problem = &kb.problems[task.problem];
     let in_init = |c: ConstId| task.init.facts().any(|f| task.facts.args(f).contains(&c));
+    let open = open_positions(task);
     let in_effects =
         |c: ConstId| task.schemas.iter().any(|s| s.effects.iter().any(|(_, l)| l.args.contains(&Pattern::Const(c))));
+    let may_add = |pred: PredId, position: usize| open.contains(&(pred, position));
     for (g, literal) in task.goal.iter().enumerate() {
         if !task.resource_goal[g] {
             continue;
         }
-        for arg in literal.args.iter() {
+        for (position, arg) in literal.args.iter().enumerate() {
             let Pattern::Const(c) = *arg else { continue };
-            if in_init(c) || in_effects(c) {
+            if in_init(c) || in_effects(c) || may_add(literal.pred, position) {
                 continue;
             }
             let shown = hir::term_to_string(interner, &problem.goal[g].term, &problem.vars);
@@ -206,14 +212,63 @@ pub fn missing_units(kb: &Kb, task: &Task, interner: &Interner) -> Option<Diagno
                 Diagnostic::error(codes::UNREACHABLE_GOAL_RELAXED, format!("goal `{shown}` can never be reached"))
                     .primary(problem.goal[g].span, format!("`{unit}` is not a unit of the resource"))
                     .with_note(format!(
-                        "`{shown}` is a unit of a renewable resource (`resources/1`); units are taken and given back \
-                         by actions, never created, and no fact of the initial state names `{unit}`"
+                        "`{shown}` is a unit of a renewable resource (`resources/1`); no fact of the initial state \
+                         names `{unit}`, and no action adds one"
                     ))
                     .with_help(format!("add `{shown}` to the initial state, or remove it from the goal")),
             );
         }
     }
     None
+}
+
+/// The argument positions that may hold a value neither the initial state nor an effect's
+/// constants name: an `add` effect puts a variable there that OnKB or the name binds (not a
+/// Valid literal), or that a Valid literal reads from such a position, or a compound. Any
+/// other position only ever holds values of the initial state or constants of effects.
+fn open_positions(task: &Task) -> Vec<(PredId, usize)> {
+    fn vars_of(pattern: &Pattern, out: &mut Vec<u32>) {
+        match pattern {
+            Pattern::Const(_) => {}
+            Pattern::Var(v) => out.push(*v),
+            Pattern::Compound(_, args) => args.iter().for_each(|a| vars_of(a, out)),
+        }
+    }
+    let mut open: Vec<(PredId, usize)> = Vec::new();
+    loop {
+        let mut changed = false;
+        for schema in &task.schemas {
+            let mut read = Vec::new();
+            let mut from_open = Vec::new();
+            for literal in schema.valid.iter() {
+                for (i, a) in literal.args.iter().enumerate() {
+                    vars_of(a, &mut read);
+                    if open.contains(&(literal.pred, i)) || matches!(a, Pattern::Compound(..)) {
+                        vars_of(a, &mut from_open);
+                    }
+                }
+            }
+            for (kind, literal) in schema.effects.iter() {
+                if *kind != EffectKind::Add {
+                    continue;
+                }
+                for (i, a) in literal.args.iter().enumerate() {
+                    let is_open = match a {
+                        Pattern::Const(_) => false,
+                        Pattern::Var(v) => !read.contains(v) || from_open.contains(v),
+                        Pattern::Compound(..) => true,
+                    };
+                    if is_open && !open.contains(&(literal.pred, i)) {
+                        open.push((literal.pred, i));
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            return open;
+        }
+    }
 }
 
 /// Binds a schema's add literal to a target fact: ground arguments of the target constrain the

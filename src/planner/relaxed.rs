@@ -29,8 +29,8 @@ use super::ground::{GroundTask, RecordedAction};
 use super::landmarks::{Accepted, Landmarks};
 use super::successors::{ConditionError, OnKbCache, instantiate, match_pattern, substitute, undo};
 use crate::engine::Machine;
-use crate::ir::hir::{EffectKind, Term};
-use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, State, Task};
+use crate::ir::hir::{EffectKind, Snap, Term};
+use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Schema, State, Task};
 use crate::ir::unify::unifiable;
 
 /// A relation read by a rule or a goal: a predicate, restricted to some argument positions.
@@ -204,6 +204,36 @@ struct Recorder {
     overflowed: bool,
 }
 
+/// A schema's literals as a relaxed rule reads them: the body (its Valid literals and, for an
+/// end, the running start it closes) and the heads (its `add` effects and, for a start, the
+/// running action it opens). So an end's name takes its start's values, as in the search.
+fn relaxed_literals(schema: &Schema) -> (Vec<LiteralPattern>, Vec<LiteralPattern>) {
+    let mut valid = schema.valid.to_vec();
+    let mut heads: Vec<LiteralPattern> =
+        schema.effects.iter().filter(|(kind, _)| *kind == EffectKind::Add).map(|(_, l)| l.clone()).collect();
+    if let Some(running) = &schema.running {
+        match schema.snap {
+            Snap::End => valid.push(running.clone()),
+            Snap::Start => heads.push(running.clone()),
+            Snap::Instant => {}
+        }
+    }
+    (valid, heads)
+}
+
+/// The facts of `state` as the relaxation reads them: its facts, and its running actions as
+/// facts of their running-action predicates.
+fn for_each_relaxed_fact(task: &Task, state: &State, mut f: impl FnMut(PredId, &[ConstId])) {
+    for fact in state.facts() {
+        f(task.facts.pred_of(fact), task.facts.args(fact));
+    }
+    for &running in state.running.iter() {
+        if let Some((pred, args)) = task.running_fact(running) {
+            f(pred, args);
+        }
+    }
+}
+
 fn var_occurrences(pattern: &Pattern, out: &mut Vec<u32>) {
     match pattern {
         Pattern::Const(_) => {}
@@ -258,6 +288,7 @@ impl Relaxation {
             }
         }
         for (index, schema) in task.schemas.iter().enumerate() {
+            let (valid, heads) = relaxed_literals(schema);
             // Variables needed beyond the body: in heads, OnKB and InvalidAtEnd conditions,
             // deletions of negated predicates, and the non-existential variables of Invalid
             // literals (those that occur elsewhere in the schema).
@@ -277,7 +308,7 @@ impl Relaxation {
             }
             let mut elsewhere = Vec::new();
             var_occurrences(&schema.name, &mut elsewhere);
-            for literal in schema.valid.iter().chain(schema.effects.iter().map(|(_, l)| l)) {
+            for literal in valid.iter().chain(schema.effects.iter().map(|(_, l)| l)).chain(&schema.running) {
                 literal.args.iter().for_each(|a| var_occurrences(a, &mut elsewhere));
             }
             for goal in schema.on_kb.iter() {
@@ -292,8 +323,6 @@ impl Relaxation {
                 }
                 needed.extend(own.into_iter().filter(|v| elsewhere.contains(v)));
             }
-            let heads: Vec<LiteralPattern> =
-                schema.effects.iter().filter(|(kind, _)| *kind == EffectKind::Add).map(|(_, l)| l.clone()).collect();
             for head in &heads {
                 for (i, a) in head.args.iter().enumerate() {
                     if !relaxation.is_dropped(head.pred, i) {
@@ -308,11 +337,10 @@ impl Relaxation {
                 term_vars(term, &mut needed);
             }
             let mut in_body = Vec::new();
-            for literal in schema.valid.iter() {
+            for literal in valid.iter() {
                 literal.args.iter().for_each(|a| var_occurrences(a, &mut in_body));
             }
-            let body: Vec<BodyLiteral> = schema
-                .valid
+            let body: Vec<BodyLiteral> = valid
                 .iter()
                 .map(|literal| {
                     let keep: Vec<u32> = (0..literal.args.len() as u32)
@@ -617,10 +645,8 @@ impl Relaxation {
     fn state_tuples(&self, task: &Task, state: &State) -> Vec<(u32, u32)> {
         let mut start = Vec::with_capacity(state.len() * 2);
         let mut projected = Vec::new();
-        for fact in state.facts() {
-            let pred = task.facts.pred_of(fact);
-            let Some(views) = self.views_of_pred.get(&pred) else { continue };
-            let values = task.facts.args(fact);
+        for_each_relaxed_fact(task, state, |pred, values| {
+            let Some(views) = self.views_of_pred.get(&pred) else { return };
             for &view in views {
                 projected.clear();
                 projected.extend(self.views[view as usize].keep.iter().map(|&i| values[i as usize]));
@@ -628,7 +654,7 @@ impl Relaxation {
                     start.push((view, t));
                 }
             }
-        }
+        });
         start
     }
 
@@ -716,9 +742,9 @@ impl Relaxation {
         }
         self.queue.clear();
         self.arena.clear();
-        for fact in state.facts() {
-            let pred = task.facts.pred_of(fact);
-            let values: Vec<ConstId> = task.facts.args(fact).to_vec();
+        let mut initial: Vec<(PredId, Vec<ConstId>)> = Vec::new();
+        for_each_relaxed_fact(task, state, |pred, values| initial.push((pred, values.to_vec())));
+        for (pred, values) in initial {
             self.offer(pred, &values, 0, Support::State);
         }
         let mut reached: Vec<Option<(u32, u32)>> = vec![None; self.goal.len()];
@@ -1072,14 +1098,16 @@ const DROPPED: ConstId = ConstId(u32::MAX);
 /// sound), and the relaxed task shrinks by the number of units: four times fewer ground
 /// actions with four arms.
 fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
+    // Each schema's literals as the relaxation reads them: (body, heads, the rest).
+    let literals: Vec<(Vec<LiteralPattern>, Vec<LiteralPattern>)> = task.schemas.iter().map(relaxed_literals).collect();
     // Resource units flow: a schema variable bound by a resource template, or read from a
     // position that holds units, holds a unit, and so does every position it is added at.
     let mut unit_positions: FxHashSet<(PredId, usize)> = FxHashSet::default();
     let mut unit_vars: Vec<Vec<u32>> = task.schemas.iter().map(|s| s.resource_vars.to_vec()).collect();
     loop {
         let mut changed = false;
-        for (schema, vars) in task.schemas.iter().zip(unit_vars.iter_mut()) {
-            for literal in schema.valid.iter() {
+        for ((body, heads), vars) in literals.iter().zip(unit_vars.iter_mut()) {
+            for literal in body {
                 for (i, a) in literal.args.iter().enumerate() {
                     if let Pattern::Var(v) = a
                         && unit_positions.contains(&(literal.pred, i))
@@ -1090,12 +1118,9 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
                     }
                 }
             }
-            for (kind, literal) in schema.effects.iter() {
+            for literal in heads {
                 for (i, a) in literal.args.iter().enumerate() {
-                    if *kind == EffectKind::Add
-                        && matches!(a, Pattern::Var(v) if vars.contains(v))
-                        && unit_positions.insert((literal.pred, i))
-                    {
+                    if matches!(a, Pattern::Var(v) if vars.contains(v)) && unit_positions.insert((literal.pred, i)) {
                         changed = true;
                     }
                 }
@@ -1105,6 +1130,26 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
             break;
         }
     }
+    // Every literal of each schema the relaxation reads, with the variables the KB reasons
+    // about (in OnKB or InvalidAtEnd), which must stay visible.
+    let all: Vec<(Vec<&LiteralPattern>, Vec<u32>)> = task
+        .schemas
+        .iter()
+        .zip(&literals)
+        .map(|(schema, (body, heads))| {
+            let mut list: Vec<&LiteralPattern> = body.iter().chain(heads.iter()).collect();
+            list.extend(schema.invalid.iter());
+            list.extend(schema.effects.iter().filter(|(kind, _)| *kind == EffectKind::Del).map(|(_, l)| l));
+            let mut reasoned = Vec::new();
+            for goal in schema.on_kb.iter() {
+                goal.for_each_call(&mut |l| term_vars(&l.term, &mut reasoned));
+            }
+            for term in schema.invalid_at_end.iter() {
+                term_vars(term, &mut reasoned);
+            }
+            (list, reasoned)
+        })
+        .collect();
     // Per predicate and position: (every occurrence qualifies, some occurrence is a unit).
     let mut status: FxHashMap<PredId, Vec<(bool, bool)>> = FxHashMap::default();
     let mut note = |pred: PredId, i: usize, arity: usize, qualifies: bool, unit: bool| {
@@ -1112,23 +1157,14 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
         entry[i].0 &= qualifies;
         entry[i].1 |= unit;
     };
-    for (schema, vars) in task.schemas.iter().zip(&unit_vars) {
+    for (((list, reasoned), vars), schema) in all.iter().zip(&unit_vars).zip(&task.schemas) {
         let mut occurrences = Vec::new();
         var_occurrences(&schema.name, &mut occurrences);
-        let literals = || schema.valid.iter().chain(schema.invalid.iter()).chain(schema.effects.iter().map(|(_, l)| l));
-        for literal in literals() {
+        for literal in list {
             literal.args.iter().for_each(|a| var_occurrences(a, &mut occurrences));
         }
-        // A unit the KB reasons about (in OnKB or InvalidAtEnd) must stay visible.
-        let mut reasoned = Vec::new();
-        for goal in schema.on_kb.iter() {
-            goal.for_each_call(&mut |l| term_vars(&l.term, &mut reasoned));
-        }
-        for term in schema.invalid_at_end.iter() {
-            term_vars(term, &mut reasoned);
-        }
-        occurrences.extend_from_slice(&reasoned);
-        for literal in literals() {
+        occurrences.extend_from_slice(reasoned);
+        for literal in list {
             for (i, a) in literal.args.iter().enumerate() {
                 let (qualifies, unit) = match a {
                     Pattern::Var(v) if vars.contains(v) => (!reasoned.contains(v), true),
@@ -1150,11 +1186,49 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
             note(literal.pred, i, literal.args.len(), qualifies, false);
         }
     }
-    status
+    let mut dropped: FxHashMap<PredId, Vec<bool>> = status
         .into_iter()
         .filter(|(_, positions)| positions.iter().any(|&(q, u)| q && u))
         .map(|(pred, positions)| (pred, positions.iter().map(|&(q, u)| q && u).collect()))
-        .collect()
+        .collect();
+    // A unit variable a schema also holds at a position that is kept (a goal names the unit
+    // there, say) must be kept everywhere in that schema, or the kept position could not be
+    // instantiated; keeping one position can keep others, so repeat until nothing changes.
+    let is_dropped = |dropped: &FxHashMap<PredId, Vec<bool>>, pred: PredId, i: usize| {
+        dropped.get(&pred).is_some_and(|d| d.get(i).copied().unwrap_or(false))
+    };
+    loop {
+        let mut keep: Vec<(PredId, usize)> = Vec::new();
+        for (list, _) in &all {
+            let mut kept_vars = Vec::new();
+            for literal in list {
+                for (i, a) in literal.args.iter().enumerate() {
+                    if !is_dropped(&dropped, literal.pred, i) {
+                        var_occurrences(a, &mut kept_vars);
+                    }
+                }
+            }
+            for literal in list {
+                for (i, a) in literal.args.iter().enumerate() {
+                    if let Pattern::Var(v) = a
+                        && kept_vars.contains(v)
+                        && is_dropped(&dropped, literal.pred, i)
+                    {
+                        keep.push((literal.pred, i));
+                    }
+                }
+            }
+        }
+        if keep.is_empty() {
+            break;
+        }
+        for (pred, i) in keep {
+            if let Some(d) = dropped.get_mut(&pred) {
+                d[i] = false;
+            }
+        }
+    }
+    dropped.into_iter().filter(|(_, d)| d.iter().any(|&x| x)).map(|(pred, d)| (pred, d.into_boxed_slice())).collect()
 }
 
 /// The join order for a rule triggered by body literal `trigger`: the other literals, most

@@ -9,7 +9,8 @@
 //! 3. the OnKB goals are proven by the resolution engine against the KB and the goal's facts,
 //!    each solution binding more variables;
 //! 4. no state fact may match an Invalid literal (its unbound variables are existential), and
-//!    no goal literal may unify with an InvalidAtEnd literal.
+//!    no goal literal may unify with an InvalidAtEnd literal; a start does not apply while the
+//!    same ground action is running (no self-overlap).
 //!
 //! Solutions come out in a fixed order (schemas in clause order, facts in state order, engine
 //! solutions in Prolog order), which the paper's depth-first search relies on and which makes
@@ -358,6 +359,16 @@ impl<'p> Successors<'p> {
         // The name and the effects must be ground to be applied.
         if !pattern_bound(&cx.schema.name, &self.bindings)
             || cx.schema.effects.iter().any(|(_, l)| !l.args.iter().all(|a| pattern_bound(a, &self.bindings)))
+        {
+            return;
+        }
+        // A ground durative action does not overlap itself: its start does not apply while
+        // it runs (docs/dsl.md, "Durative actions").
+        if !self.ignore_invalid
+            && cx.schema.snap == Snap::Start
+            && !cx.state.running.is_empty()
+            && let Some(instance) = running_instance(cx.schema, cx.consts, &self.bindings)
+            && cx.state.running.binary_search(&instance).is_ok()
         {
             return;
         }

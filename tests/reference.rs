@@ -1,0 +1,947 @@
+//! A reference semantics for the planner: random KBs, an exhaustive breadth-first planner
+//! written here from docs/dsl.md alone, and kbc held against it.
+//!
+//! The generator writes small KBs (a few fluents of arity 0-3, a few constants, instantaneous
+//! actions and durative pairs whose ends take their start's values, `_` and variables in every
+//! list, OnKB goals over static facts and `\=`, effects in any order, sometimes a
+//! `resources/1` declaration) both as text for kbc and as values for the reference. The
+//! reference shares no code with kbc: it has its own terms, matching, OnKB evaluation, states
+//! and search. On every KB:
+//!
+//! - kbc refuses the KB (an error) only if the reference finds no plan either;
+//! - when the reference has a plan, both of kbc's searches find one (unless a budget runs
+//!   out), and no analysis calls a goal unreachable;
+//! - when the reference proves there is none, kbc finds none;
+//! - every plan kbc prints replays in the reference, and kbc's validator accepts it and the
+//!   reference's plan.
+//!
+//! `cargo test` runs a thousand seeds; `KBC_REFERENCE_KBS=20000` runs more, and
+//! `KBC_REFERENCE_SEED=N` one seed (its KB is printed on failure).
+
+mod common;
+
+use std::collections::{BTreeSet, HashSet, VecDeque};
+use std::fmt::Write;
+use std::time::{Duration, Instant};
+
+use kbc::cli::FsLoader;
+use kbc::driver;
+use kbc::ir::hir;
+use kbc::planner::{self, Budget, Failure, Options, SearchKind, Silent};
+use kbc::source::SourceDb;
+use kbc::validate::{self, PlanStep};
+
+// ---------------------------------------------------------------------------------------------
+// The KB model, as the reference sees it.
+
+const CONSTS: [&str; 3] = ["a", "b", "c"];
+
+/// A term of a schema: a variable (by number), a constant (by index in `CONSTS`) or `_`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum T {
+    Var(usize),
+    Const(usize),
+    Anon,
+}
+
+#[derive(Clone, Debug)]
+struct Lit {
+    pred: usize,
+    args: Vec<T>,
+}
+
+#[derive(Clone, Debug)]
+enum OnKb {
+    /// A static fact `k<pred>(args)`.
+    Static(usize, Vec<T>),
+    /// `X \= Y`.
+    Differ(T, T),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Snap {
+    Instant,
+    Start,
+    End,
+}
+
+#[derive(Clone, Debug)]
+struct Schema {
+    /// The base name (`i0`, `d1`).
+    base: String,
+    snap: Snap,
+    params: Vec<T>,
+    valid: Vec<Lit>,
+    invalid: Vec<Lit>,
+    invalid_at_end: Vec<Lit>,
+    on_kb: Vec<OnKb>,
+    /// (add?, literal), in order.
+    effects: Vec<(bool, Lit)>,
+    vars: usize,
+}
+
+#[derive(Clone, Debug)]
+struct Kb {
+    /// Static predicates `k0/1`, `k1/2` and their facts.
+    statics: Vec<Vec<Vec<usize>>>,
+    schemas: Vec<Schema>,
+    resources: Option<usize>,
+    init: Vec<(usize, Vec<usize>)>,
+    /// The goal's literals; `T::Var` are goal variables shared between literals.
+    goal: Vec<Lit>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// The generator.
+
+/// xorshift64*: small, seeded, and the same everywhere.
+struct Rng(u64);
+
+impl Rng {
+    fn new(seed: u64) -> Rng {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+    fn chance(&mut self, percent: u64) -> bool {
+        self.next() % 100 < percent
+    }
+}
+
+fn generate(seed: u64) -> Kb {
+    let mut rng = Rng::new(seed);
+    let consts = 2 + rng.below(2);
+    let fluents: Vec<usize> = (0..2 + rng.below(3)).map(|_| rng.below(4)).collect();
+    let statics: Vec<Vec<Vec<usize>>> = (0..2)
+        .map(|k| {
+            let arity = k + 1;
+            let mut facts: Vec<Vec<usize>> = Vec::new();
+            for _ in 0..1 + rng.below(3) {
+                let fact: Vec<usize> = (0..arity).map(|_| rng.below(consts)).collect();
+                if !facts.contains(&fact) {
+                    facts.push(fact);
+                }
+            }
+            facts
+        })
+        .collect();
+    let random_lit = |rng: &mut Rng, vars: usize, bound: Option<&[usize]>, anon: bool| -> Lit {
+        let pred = rng.below(fluents.len());
+        let args = (0..fluents[pred])
+            .map(|_| match rng.below(10) {
+                0..=2 => T::Const(rng.below(consts)),
+                3 if anon => T::Anon,
+                _ => match bound {
+                    Some(bound) if !bound.is_empty() => T::Var(bound[rng.below(bound.len())]),
+                    Some(_) => T::Const(rng.below(consts)),
+                    None => T::Var(rng.below(vars)),
+                },
+            })
+            .collect();
+        Lit { pred, args }
+    };
+    let mut schemas = Vec::new();
+    let count = 2 + rng.below(4);
+    let mut index = 0;
+    while schemas.len() < count {
+        let durative = rng.chance(45);
+        let vars = 1 + rng.below(3);
+        let base = if durative { format!("d{index}") } else { format!("i{index}") };
+        index += 1;
+        let mut start = blank(&base, if durative { Snap::Start } else { Snap::Instant }, vars);
+        fill(&mut rng, &mut start, &random_lit, consts, statics.len(), None);
+        schemas.push(start.clone());
+        if durative {
+            let end_vars = start.params.len() + rng.below(2);
+            let mut end = blank(&base, Snap::End, end_vars.max(1));
+            // The end's name has the start's arity; its arguments are its own variables
+            // (bound from the running start), now and then a constant.
+            end.params = (0..start.params.len())
+                .map(|i| if rng.chance(10) { T::Const(rng.below(consts)) } else { T::Var(i) })
+                .collect();
+            let name = end.params.clone();
+            fill(&mut rng, &mut end, &random_lit, consts, statics.len(), Some(&name));
+            schemas.push(end);
+        }
+    }
+    let resources = if rng.chance(25) { fluents.iter().position(|&a| a == 1) } else { None };
+    let mut init: Vec<(usize, Vec<usize>)> = Vec::new();
+    for _ in 0..1 + rng.below(4) {
+        let pred = rng.below(fluents.len());
+        let fact = (pred, (0..fluents[pred]).map(|_| rng.below(consts)).collect());
+        if !init.contains(&fact) {
+            init.push(fact);
+        }
+    }
+    // Goals mostly ask for an instance of what some action adds, and for something the
+    // initial state does not already have, so that most problems are worth planning.
+    let added: Vec<Lit> = schemas
+        .iter()
+        .flat_map(|s: &Schema| s.effects.iter().filter(|(add, _)| *add).map(|(_, l)| l.clone()))
+        .collect();
+    let mut goal: Vec<Lit> = Vec::new();
+    // Often, a fact a random walk from the initial state reaches (ending its durative actions
+    // is left to the planner): such goals are reachable ignoring the running actions.
+    if rng.chance(60) {
+        let mut kb =
+            Kb { statics: statics.clone(), schemas: schemas.clone(), resources, init: init.clone(), goal: Vec::new() };
+        let mut state = initial(&kb);
+        for _ in 0..1 + rng.below(6) {
+            let next = successors(&kb, &state);
+            if next.is_empty() {
+                break;
+            }
+            state = next[rng.below(next.len())].1.clone();
+        }
+        let new: Vec<&Fact> = state.facts.iter().filter(|f| !kb.init.contains(f)).collect();
+        if !new.is_empty() {
+            let (pred, args) = new[rng.below(new.len())].clone();
+            let args = args.iter().map(|&c| if rng.chance(10) { T::Anon } else { T::Const(c) }).collect();
+            kb.goal = vec![Lit { pred, args }];
+            return kb;
+        }
+    }
+    for _attempt in 0..10 {
+        goal = (0..1 + rng.below(2))
+            .map(|_| {
+                if !added.is_empty() && rng.chance(80) {
+                    let effect = &added[rng.below(added.len())];
+                    let args = effect
+                        .args
+                        .iter()
+                        .map(|t| match t {
+                            T::Const(c) => T::Const(*c),
+                            _ if rng.chance(10) => T::Anon,
+                            _ => T::Const(rng.below(consts)),
+                        })
+                        .collect();
+                    return Lit { pred: effect.pred, args };
+                }
+                let pred = rng.below(fluents.len());
+                let args = (0..fluents[pred])
+                    .map(|_| match rng.below(10) {
+                        0 => T::Anon,
+                        1 => T::Var(0),
+                        _ => T::Const(rng.below(consts)),
+                    })
+                    .collect();
+                Lit { pred, args }
+            })
+            .collect();
+        let start = State { facts: init.iter().cloned().collect(), running: BTreeSet::new() };
+        let probe =
+            Kb { statics: Vec::new(), schemas: Vec::new(), resources: None, init: Vec::new(), goal: goal.clone() };
+        if !goal_holds(&probe, &start) {
+            break;
+        }
+    }
+    Kb { statics, schemas, resources, init, goal }
+}
+
+fn blank(base: &str, snap: Snap, vars: usize) -> Schema {
+    Schema {
+        base: base.to_string(),
+        snap,
+        params: Vec::new(),
+        valid: Vec::new(),
+        invalid: Vec::new(),
+        invalid_at_end: Vec::new(),
+        on_kb: Vec::new(),
+        effects: Vec::new(),
+        vars,
+    }
+}
+
+type LitMaker<'a> = dyn Fn(&mut Rng, usize, Option<&[usize]>, bool) -> Lit + 'a;
+
+/// Fills a schema's lists; `name` is an end's name (its variables are bound by the start).
+fn fill(rng: &mut Rng, schema: &mut Schema, lit: &LitMaker<'_>, consts: usize, statics: usize, name: Option<&[T]>) {
+    let vars = schema.vars;
+    let mut bound: Vec<usize> = Vec::new();
+    if let Some(name) = name {
+        for t in name {
+            if let T::Var(v) = t
+                && !bound.contains(v)
+            {
+                bound.push(*v);
+            }
+        }
+    }
+    for _ in 0..rng.below(3) {
+        let l = lit(rng, vars, None, true);
+        for t in &l.args {
+            if let T::Var(v) = t
+                && !bound.contains(v)
+            {
+                bound.push(*v);
+            }
+        }
+        schema.valid.push(l);
+    }
+    for _ in 0..rng.below(3) {
+        if rng.chance(50) {
+            let arity = 1 + rng.below(statics);
+            let args: Vec<T> = (0..arity)
+                .map(|_| if rng.chance(20) { T::Const(rng.below(consts)) } else { T::Var(rng.below(vars)) })
+                .collect();
+            for t in &args {
+                if let T::Var(v) = t
+                    && !bound.contains(v)
+                {
+                    bound.push(*v);
+                }
+            }
+            schema.on_kb.push(OnKb::Static(arity - 1, args));
+        } else {
+            let pick =
+                |rng: &mut Rng| if rng.chance(25) { T::Const(rng.below(consts)) } else { T::Var(rng.below(vars)) };
+            let (x, y) = (pick(rng), pick(rng));
+            schema.on_kb.push(OnKb::Differ(x, y));
+        }
+    }
+    if rng.chance(35) {
+        schema.invalid.push(lit(rng, vars, None, true));
+    }
+    if rng.chance(15) {
+        schema.invalid_at_end.push(lit(rng, vars, Some(&bound), true));
+    }
+    for _ in 0..1 + rng.below(3) {
+        let add = rng.chance(60);
+        schema.effects.push((add, lit(rng, vars, Some(&bound), false)));
+    }
+    if name.is_none() {
+        // A start's or an instant's name: bound variables only, so it is ground when it applies.
+        let mut params: Vec<T> = Vec::new();
+        for _ in 0..rng.below(3) {
+            if bound.is_empty() {
+                break;
+            }
+            params.push(T::Var(bound[rng.below(bound.len())]));
+        }
+        schema.params = params;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The KB as text.
+
+fn show_t(t: &T) -> String {
+    match t {
+        T::Var(v) => format!("V{v}"),
+        T::Const(c) => CONSTS[*c].to_string(),
+        T::Anon => "_".to_string(),
+    }
+}
+
+fn show_lit(l: &Lit) -> String {
+    if l.args.is_empty() {
+        format!("f{}", l.pred)
+    } else {
+        format!("f{}({})", l.pred, l.args.iter().map(show_t).collect::<Vec<_>>().join(", "))
+    }
+}
+
+fn show_name(s: &Schema) -> String {
+    let name = match s.snap {
+        Snap::Instant => s.base.clone(),
+        Snap::Start => format!("{}_start", s.base),
+        Snap::End => format!("{}_end", s.base),
+    };
+    if s.params.is_empty() {
+        name
+    } else {
+        format!("{name}({})", s.params.iter().map(show_t).collect::<Vec<_>>().join(", "))
+    }
+}
+
+fn kb_text(kb: &Kb) -> String {
+    let mut out = String::new();
+    if let Some(r) = kb.resources {
+        let _ = writeln!(out, "resources(f{r}(_)).");
+    }
+    for (k, facts) in kb.statics.iter().enumerate() {
+        for fact in facts {
+            let args: Vec<&str> = fact.iter().map(|&c| CONSTS[c]).collect();
+            let _ = writeln!(out, "k{k}({}).", args.join(", "));
+        }
+    }
+    for s in &kb.schemas {
+        let list = |ls: &[Lit]| ls.iter().map(show_lit).collect::<Vec<_>>().join(", ");
+        let on_kb: Vec<String> = s
+            .on_kb
+            .iter()
+            .map(|g| match g {
+                OnKb::Static(k, args) => format!("k{k}({})", args.iter().map(show_t).collect::<Vec<_>>().join(", ")),
+                OnKb::Differ(x, y) => format!("{} \\= {}", show_t(x), show_t(y)),
+            })
+            .collect();
+        let effects: Vec<String> =
+            s.effects.iter().map(|(add, l)| format!("{}({})", if *add { "add" } else { "del" }, show_lit(l))).collect();
+        let _ = writeln!(
+            out,
+            "action({}, [{}], [{}], [{}], [{}], [{}]).",
+            show_name(s),
+            list(&s.valid),
+            list(&s.invalid),
+            list(&s.invalid_at_end),
+            on_kb.join(", "),
+            effects.join(", ")
+        );
+    }
+    let init: Vec<String> = kb
+        .init
+        .iter()
+        .map(|(p, args)| show_lit(&Lit { pred: *p, args: args.iter().map(|&c| T::Const(c)).collect() }))
+        .collect();
+    let goal: Vec<String> = kb.goal.iter().map(show_lit).collect();
+    let _ = writeln!(out, "prob :- go([{}], [{}]).", init.join(", "), goal.join(", "));
+    out
+}
+
+// ---------------------------------------------------------------------------------------------
+// The reference semantics (docs/dsl.md, "Action schemas", "Problems", "Planning").
+
+/// A ground fact: predicate and constants.
+type Fact = (usize, Vec<usize>);
+/// A running durative action: base index into the KB's schemas (its start) and arguments.
+type Running = (String, Vec<usize>);
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+struct State {
+    facts: BTreeSet<Fact>,
+    running: BTreeSet<Running>,
+}
+
+type Env = Vec<Option<usize>>;
+
+/// Unifies a schema term with a constant under `env`.
+fn bind(t: &T, value: usize, env: &mut Env) -> bool {
+    match t {
+        T::Anon => true,
+        T::Const(c) => *c == value,
+        T::Var(v) => match env[*v] {
+            Some(b) => b == value,
+            None => {
+                env[*v] = Some(value);
+                true
+            }
+        },
+    }
+}
+
+fn match_fact(l: &Lit, fact: &Fact, env: &mut Env) -> bool {
+    l.pred == fact.0 && l.args.len() == fact.1.len() && l.args.iter().zip(&fact.1).all(|(t, &v)| bind(t, v, env))
+}
+
+fn value(t: &T, env: &Env) -> Option<usize> {
+    match t {
+        T::Const(c) => Some(*c),
+        T::Var(v) => env[*v],
+        T::Anon => None,
+    }
+}
+
+/// Every way of proving the OnKB goals from `i` on, Prolog's order, each a completed `env`.
+fn prove(kb: &Kb, goals: &[OnKb], env: &Env, out: &mut Vec<Env>) {
+    let Some((first, rest)) = goals.split_first() else {
+        out.push(env.clone());
+        return;
+    };
+    match first {
+        OnKb::Static(k, args) => {
+            for fact in &kb.statics[*k] {
+                let mut e = env.clone();
+                if args.iter().zip(fact).all(|(t, &v)| bind(t, v, &mut e)) {
+                    prove(kb, rest, &e, out);
+                }
+            }
+        }
+        OnKb::Differ(x, y) => {
+            // `X \= Y` succeeds when X and Y do not unify; an unbound variable unifies.
+            let differ = matches!((value(x, env), value(y, env)), (Some(a), Some(b)) if a != b);
+            if differ {
+                prove(kb, rest, env, out);
+            }
+        }
+    }
+}
+
+/// A goal literal and an InvalidAtEnd literal unify (goal variables are the goal's own).
+fn unify_with_goal(forbidden: &Lit, env: &Env, goal: &[Lit]) -> bool {
+    goal.iter().any(|g| {
+        g.pred == forbidden.pred && {
+            // Bindings of the goal's variables (shared between its literals, but one literal
+            // at a time is enough here: the check is per literal).
+            let mut goal_env: Vec<Option<usize>> = vec![None; 4];
+            let mut own: Env = env.clone();
+            g.args.iter().zip(&forbidden.args).all(|(gt, ft)| {
+                let f = match ft {
+                    T::Var(v) => own[*v],
+                    T::Const(c) => Some(*c),
+                    T::Anon => None,
+                };
+                let gv = match gt {
+                    T::Var(v) => goal_env[*v],
+                    T::Const(c) => Some(*c),
+                    T::Anon => None,
+                };
+                match (f, gv) {
+                    (Some(a), Some(b)) => a == b,
+                    (Some(a), None) => {
+                        if let T::Var(v) = gt {
+                            goal_env[*v] = Some(a);
+                        }
+                        true
+                    }
+                    (None, Some(b)) => {
+                        if let T::Var(v) = ft {
+                            own[*v] = Some(b);
+                        }
+                        true
+                    }
+                    // Two unbound variables unify (their later occurrences are not tracked
+                    // against each other; the generator's literals rarely repeat one).
+                    (None, None) => true,
+                }
+            })
+        }
+    })
+}
+
+/// A successor: the action's ground name and the state it leads to.
+fn successors(kb: &Kb, state: &State) -> Vec<(String, State)> {
+    let mut out = Vec::new();
+    for s in &kb.schemas {
+        let mut starts: Vec<(Env, Option<Running>)> = Vec::new();
+        if s.snap == Snap::End {
+            for r in &state.running {
+                if r.0 != s.base || r.1.len() != s.params.len() {
+                    continue;
+                }
+                let mut env = vec![None; s.vars];
+                if s.params.iter().zip(&r.1).all(|(t, &v)| bind(t, v, &mut env)) {
+                    starts.push((env, Some(r.clone())));
+                }
+            }
+        } else {
+            starts.push((vec![None; s.vars], None));
+        }
+        for (env, ends) in starts {
+            let mut valid = Vec::new();
+            valid_from(s, 0, state, &env, &mut valid);
+            for env in valid {
+                let mut proven = Vec::new();
+                prove(kb, &s.on_kb, &env, &mut proven);
+                for env in proven {
+                    if let Some(next) = finish(kb, s, state, &env, ends.as_ref()) {
+                        out.push(next);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn valid_from(s: &Schema, i: usize, state: &State, env: &Env, out: &mut Vec<Env>) {
+    let Some(l) = s.valid.get(i) else {
+        out.push(env.clone());
+        return;
+    };
+    for fact in &state.facts {
+        let mut e = env.clone();
+        if match_fact(l, fact, &mut e) {
+            valid_from(s, i + 1, state, &e, out);
+        }
+    }
+}
+
+fn finish(kb: &Kb, s: &Schema, state: &State, env: &Env, ends: Option<&Running>) -> Option<(String, State)> {
+    let params: Vec<usize> = s.params.iter().map(|t| value(t, env)).collect::<Option<_>>()?;
+    let mut effects: Vec<(bool, Fact)> = Vec::new();
+    for (add, l) in &s.effects {
+        let args: Vec<usize> = l.args.iter().map(|t| value(t, env)).collect::<Option<_>>()?;
+        effects.push((*add, (l.pred, args)));
+    }
+    if s.snap == Snap::Start && state.running.contains(&(s.base.clone(), params.clone())) {
+        return None; // no self-overlap
+    }
+    for l in &s.invalid {
+        if state.facts.iter().any(|f| match_fact(l, f, &mut env.clone())) {
+            return None;
+        }
+    }
+    for l in &s.invalid_at_end {
+        if unify_with_goal(l, env, &kb.goal) {
+            return None;
+        }
+    }
+    let mut next = state.clone();
+    for (add, fact) in effects {
+        if add {
+            next.facts.insert(fact);
+        } else {
+            next.facts.remove(&fact);
+        }
+    }
+    match s.snap {
+        Snap::Start => {
+            next.running.insert((s.base.clone(), params.clone()));
+        }
+        Snap::End => {
+            next.running.remove(ends.expect("an end closes a start"));
+        }
+        Snap::Instant => {}
+    }
+    let mut shown = show_name(&Schema { params: params.iter().map(|&c| T::Const(c)).collect(), ..s.clone() });
+    shown.retain(|c| c != ' ');
+    Some((shown, next))
+}
+
+fn goal_holds(kb: &Kb, state: &State) -> bool {
+    fn from(goal: &[Lit], state: &State, env: &Env) -> bool {
+        let Some((first, rest)) = goal.split_first() else { return true };
+        state.facts.iter().any(|f| {
+            let mut e = env.clone();
+            match_fact(first, f, &mut e) && from(rest, state, &e)
+        })
+    }
+    state.running.is_empty() && from(&kb.goal, state, &vec![None; 4])
+}
+
+fn initial(kb: &Kb) -> State {
+    State { facts: kb.init.iter().cloned().collect(), running: BTreeSet::new() }
+}
+
+enum Reference {
+    /// A shortest plan.
+    Plan(Vec<String>),
+    /// Every reachable state was visited.
+    Unsolvable,
+    /// Too many states to tell.
+    Unknown,
+}
+
+fn reference_plan(kb: &Kb, max_states: usize) -> Reference {
+    let start = initial(kb);
+    let mut parents: Vec<(usize, String)> = vec![(usize::MAX, String::new())];
+    let mut states: Vec<State> = vec![start.clone()];
+    let mut seen: HashSet<State> = HashSet::from([start]);
+    let mut queue = VecDeque::from([0usize]);
+    while let Some(at) = queue.pop_front() {
+        if goal_holds(kb, &states[at]) {
+            let mut plan = Vec::new();
+            let mut i = at;
+            while parents[i].0 != usize::MAX {
+                plan.push(parents[i].1.clone());
+                i = parents[i].0;
+            }
+            plan.reverse();
+            return Reference::Plan(plan);
+        }
+        for (name, next) in successors(kb, &states[at].clone()) {
+            if seen.insert(next.clone()) {
+                if states.len() >= max_states {
+                    return Reference::Unknown;
+                }
+                states.push(next);
+                parents.push((at, name));
+                queue.push_back(states.len() - 1);
+            }
+        }
+    }
+    Reference::Unsolvable
+}
+
+/// Replays named steps: some way of applying them must reach the goal.
+fn reference_accepts(kb: &Kb, steps: &[String]) -> bool {
+    let mut states: BTreeSet<State> = BTreeSet::from([initial(kb)]);
+    for step in steps {
+        let wanted: String = step.chars().filter(|c| *c != ' ').collect();
+        states = states
+            .iter()
+            .flat_map(|s| successors(kb, s))
+            .filter(|(name, _)| *name == wanted)
+            .map(|(_, next)| next)
+            .collect();
+        if states.is_empty() {
+            return false;
+        }
+    }
+    states.iter().any(|s| goal_holds(kb, s))
+}
+
+// ---------------------------------------------------------------------------------------------
+// kbc against the reference.
+
+#[derive(Default, Debug)]
+struct Counts {
+    kbs: usize,
+    refused: usize,
+    solvable: usize,
+    unsolvable: usize,
+    unknown: usize,
+    budget: usize,
+    /// KBs with an end whose effect uses a name variable its Valid list does not bind.
+    end_takes_start: usize,
+}
+
+/// True if some end adds a fact with a variable only its name (so its start) binds.
+fn end_takes_start(kb: &Kb) -> bool {
+    kb.schemas.iter().filter(|s| s.snap == Snap::End).any(|s| {
+        s.params.iter().any(|p| {
+            matches!(p, T::Var(_))
+                && !s.valid.iter().any(|l| l.args.contains(p))
+                && s.effects.iter().any(|(add, l)| *add && l.args.contains(p))
+        })
+    })
+}
+
+/// Checks one seed; `Err` describes a disagreement.
+fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
+    let kb = generate(seed);
+    let text = kb_text(&kb);
+    counts.kbs += 1;
+    counts.end_takes_start += usize::from(end_takes_start(&kb));
+    let reference = reference_plan(&kb, 20_000);
+    let mut db = SourceDb::new();
+    let root = db.add(format!("seed{seed}.pl"), None, text.clone());
+    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
+    let context = |what: String| format!("seed {seed}: {what}\n{text}");
+    if frontend.diagnostics.has_errors() {
+        counts.refused += 1;
+        if std::env::var("KBC_REFERENCE_DEBUG").is_ok() {
+            for d in frontend.diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error) {
+                eprintln!("REFUSED {:?} {}", d.code, d.message);
+            }
+        }
+        if let Reference::Plan(plan) = &reference {
+            let messages = common::messages(&frontend.diagnostics);
+            return Err(context(format!("kbc refuses a KB the reference plans ({plan:?}): {messages:?}")));
+        }
+        return Ok(());
+    }
+    let problem = 0;
+    let program = planner::program_for(&frontend.kb, problem);
+    let validate_text = |plan_text: String, names: &[String]| -> Result<(), String> {
+        let mut interner = frontend.interner.clone();
+        let mut db = SourceDb::new();
+        let file = db.add("plan.txt", None, plan_text.clone());
+        let mut diags = kbc::diag::Diagnostics::new();
+        let steps: Vec<PlanStep> = validate::read_plan(file, &plan_text, &mut interner, &mut diags);
+        if diags.has_errors() {
+            return Err(format!("kbc cannot read the plan {names:?}: {:?}", common::messages(&diags)));
+        }
+        let verdict = validate::validate(&frontend.kb, &interner, &program, problem, &steps);
+        if verdict.diagnostics.has_errors() {
+            return Err(format!("kbc validate rejects {names:?}: {:?}", common::messages(&verdict.diagnostics)));
+        }
+        Ok(())
+    };
+    match &reference {
+        Reference::Plan(plan) => {
+            counts.solvable += 1;
+            if std::env::var("KBC_REFERENCE_DEBUG").is_ok() && end_takes_start(&kb) {
+                eprintln!("ENDSTART seed {seed} plan {plan:?}\n{text}");
+            }
+            let text: String = plan.iter().map(|n| format!("{n}\n")).collect();
+            validate_text(text, plan).map_err(&context)?;
+        }
+        Reference::Unsolvable => counts.unsolvable += 1,
+        Reference::Unknown => counts.unknown += 1,
+    }
+    for search in [SearchKind::Heuristic, SearchKind::Paper] {
+        let mut task = kbc::passes::task::build(&frontend.kb, problem);
+        let budget = Budget {
+            max_states: 200_000,
+            deadline: Some(Instant::now() + Duration::from_secs(10)),
+            ..Budget::default()
+        };
+        let max_depth = match &reference {
+            Reference::Plan(plan) => Some((plan.len() as u32).max(12)),
+            _ => Some(12),
+        };
+        let options = Options { search, max_depth, budget, plans: 1, improve: None };
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+        match (outcome.result, &reference) {
+            (Ok(plan), _) => {
+                let names: Vec<String> = plan
+                    .steps
+                    .iter()
+                    .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()))
+                    .collect();
+                if !reference_accepts(&kb, &names) {
+                    return Err(context(format!("{search:?} search plan {names:?} is not valid in the reference")));
+                }
+                // As `kbc plan` prints it (with `% with` values) and kbc validate reads it.
+                let printed = kbc::ir::plan::print(&frontend.interner, &frontend.kb, &plan);
+                validate_text(printed, &names).map_err(&context)?;
+            }
+            (Err(Failure::Budget(_)), _) => counts.budget += 1,
+            (Err(failure), Reference::Plan(plan)) => {
+                let failure = match failure {
+                    Failure::Unsolvable(d) => {
+                        format!("{}: {}", d.code.map(|c| c.to_string()).unwrap_or_default(), d.message)
+                    }
+                    other => format!("{other:?}"),
+                };
+                return Err(context(format!(
+                    "{search:?} search finds no plan ({failure}); the reference has {plan:?}"
+                )));
+            }
+            (Err(_), _) => {}
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn kbc_agrees_with_the_reference_planner_on_random_kbs() {
+    let (first, count) = match std::env::var("KBC_REFERENCE_SEED") {
+        Ok(seed) => (seed.parse::<u64>().expect("a seed"), 1),
+        Err(_) => (1, std::env::var("KBC_REFERENCE_KBS").ok().and_then(|n| n.parse().ok()).unwrap_or(1000u64)),
+    };
+    let mut counts = Counts::default();
+    let mut failures = Vec::new();
+    for seed in first..first + count {
+        if let Err(message) = check(seed, &mut counts) {
+            failures.push(message);
+        }
+    }
+    eprintln!("{counts:?}");
+    // The generator must exercise both outcomes, or the test says little.
+    assert!(counts.solvable * 5 > counts.kbs, "too few solvable KBs: {counts:?}");
+    assert!(counts.unsolvable > 0 || count < 50, "no unsolvable KB: {counts:?}");
+    assert!(
+        failures.is_empty(),
+        "{} of {} KBs disagree with the reference:\n\n{}",
+        failures.len(),
+        counts.kbs,
+        failures.iter().take(5).cloned().collect::<Vec<_>>().join("\n\n")
+    );
+}
+
+/// Seeds that once disagreed, run on every `cargo test` whatever the count.
+const REGRESSION_SEEDS: &[u64] = &[
+    13361, // a plan whose steps leave variables out of their names: too ambiguous to replay
+];
+
+#[test]
+fn seeds_that_once_disagreed_agree() {
+    let mut counts = Counts::default();
+    for &seed in REGRESSION_SEEDS {
+        check(seed, &mut counts).unwrap_or_else(|message| panic!("{message}"));
+    }
+}
+
+/// Plans `text`'s only problem with `search`; the plan as `kbc plan` prints it, or why not.
+fn plan_of(text: &str, search: SearchKind) -> Result<(Vec<String>, String), String> {
+    let mut db = SourceDb::new();
+    let root = db.add("case.pl", None, text.to_string());
+    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
+    if frontend.diagnostics.has_errors() {
+        return Err(format!("refused: {:?}", common::messages(&frontend.diagnostics)));
+    }
+    let mut task = kbc::passes::task::build(&frontend.kb, 0);
+    let options = Options { search, ..Options::default() };
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    let plan = outcome.result.map_err(|failure| match failure {
+        Failure::Unsolvable(d) => d.message,
+        other => format!("{other:?}"),
+    })?;
+    let names = plan
+        .steps
+        .iter()
+        .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()))
+        .collect();
+    let printed = kbc::ir::plan::print(&frontend.interner, &frontend.kb, &plan);
+    // kbc validate reads what kbc plan prints.
+    let mut interner = frontend.interner.clone();
+    let mut db = SourceDb::new();
+    let file = db.add("plan.txt", None, printed.clone());
+    let mut diags = kbc::diag::Diagnostics::new();
+    let steps = validate::read_plan(file, &printed, &mut interner, &mut diags);
+    let program = planner::program_for(&frontend.kb, 0);
+    let verdict = validate::validate(&frontend.kb, &interner, &program, 0, &steps);
+    if diags.has_errors() || verdict.diagnostics.has_errors() {
+        return Err(format!(
+            "kbc validate rejects its own plan:\n{printed}{:?}",
+            common::messages(&verdict.diagnostics)
+        ));
+    }
+    Ok((names, printed))
+}
+
+/// The minimal KBs of the disagreements the first random-KB tester found (issue 19), each with
+/// the plan both searches must find.
+#[test]
+fn the_minimal_disagreements_plan() {
+    let cases: &[(&str, &str, &[&str])] = &[
+        (
+            "an end takes a variable its start bound",
+            "thing(a). thing(b).
+             action(p_start(X), [idle], [], [], [thing(X)], [del(idle), add(busy)]).
+             action(p_end(X), [busy], [], [], [], [del(busy), add(idle), add(done(X))]).
+             t1 :- go([idle], [idle, done(b)]).",
+            &["p_start(b)", "p_end(b)"],
+        ),
+        (
+            "a resource unit read by a Valid literal and added by name",
+            "resources(p(_)).
+             action(i(A), [p(A)], [], [], [], [add(r(A))]).
+             prob :- go([p(b)], [r(b)]).",
+            &["i(b)"],
+        ),
+        (
+            "two unit variables, one of them added",
+            "resources(q(_)).
+             action(ia(A, B), [q(A), q(B)], [], [], [], [add(p(B))]).
+             prob :- go([q(b)], [p(b)]).",
+            &["ia(b, b)"],
+        ),
+        (
+            "a unit an action creates",
+            "resources(p(_)). k(b).
+             action(mk(A), [], [], [], [k(A)], [add(p(A))]).
+             prob :- go([], [p(b)]).",
+            &["mk(b)"],
+        ),
+        (
+            "a goal literal and its generalisation",
+            "k1(b, b).
+             action(ia(A, B), [q(A, C)], [], [], [k1(B, B)], [del(q(A, C)), add(q(A, B))]).
+             prob :- go([q(a, a)], [q(a, b), q(a, _)]).",
+            &["ia(a, b)"],
+        ),
+        (
+            "a start of a running action does not apply again",
+            "action(t_start(A), [q(A)], [], [], [], [add(s)]).
+             action(t_end(A), [f], [], [], [], [add(g), del(s)]).
+             action(i, [s], [], [], [], [del(s), add(f)]).
+             prob :- go([q(a)], [g]).",
+            &["t_start(a)", "i", "t_end(a)"],
+        ),
+        (
+            "a variable the name leaves out",
+            "action(i, [q(C)], [], [], [], [add(r(C))]).
+             prob :- go([q(a), q(b)], [r(b)]).",
+            &["i"],
+        ),
+    ];
+    for (what, text, expected) in cases {
+        let (heuristic, printed) = plan_of(text, SearchKind::Heuristic).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(heuristic, *expected, "{what}: heuristic search");
+        let (paper, _) = plan_of(text, SearchKind::Paper).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert!(paper.len() >= expected.len(), "{what}: the paper's search {paper:?}");
+        if *what == "a variable the name leaves out" {
+            assert!(printed.contains("i  % with C = b"), "{what}: the hidden value is printed:\n{printed}");
+        }
+    }
+}
