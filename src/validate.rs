@@ -821,7 +821,7 @@ fn duration_bounds(machine: &mut Machine<'_>, action: &Term) -> Result<(i64, i64
         })
         .map_err(|e| format!("{e:?}"))?;
     match found {
-        None => Ok((DEFAULT_DURATION * UNITS, DEFAULT_DURATION * UNITS)),
+        None => Ok((DEFAULT_DURATION * UNITS, i64::MAX)),
         Some((Some(min), Some(max))) => Ok((min, max)),
         Some(_) => Err("its bounds are not numbers".into()),
     }

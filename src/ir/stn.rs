@@ -22,7 +22,9 @@ use crate::source::Span;
 /// Time points per unit of KB time: STN times are thousandths.
 pub const UNITS: i64 = 1000;
 
-/// The duration of a durative action without `duration/3`, in KB time units, both bounds.
+/// The least duration of a durative action without `duration/3`, in KB time units; it has no
+/// maximum, so the default never makes an order inconsistent: an end that must wait for
+/// something simply comes later.
 pub const DEFAULT_DURATION: i64 = 1;
 
 /// The least separation, in STN time, between two ordered snap actions, except an end
@@ -49,7 +51,7 @@ pub enum TimePoint {
 pub enum DurationSource {
     /// A `duration/3` clause (the first whose head matches the action).
     Clause(Span),
-    /// No clause: [`DEFAULT_DURATION`].
+    /// No clause: at least [`DEFAULT_DURATION`], no maximum.
     Default,
 }
 

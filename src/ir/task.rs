@@ -171,6 +171,16 @@ impl Facts {
         id
     }
 
+    /// True for a running-action predicate (see [`Facts::running_pred`]).
+    pub fn is_running_pred(&self, pred: PredId) -> bool {
+        self.running_map.values().any(|&p| p == pred)
+    }
+
+    /// The predicates of state facts: every predicate but the running-action ones.
+    pub fn fluent_preds(&self) -> impl Iterator<Item = PredId> + '_ {
+        (0..self.preds.len() as u32).map(PredId).filter(|&p| !self.is_running_pred(p))
+    }
+
     /// The running-action predicate of `base/arity`, if interned.
     pub fn find_running_pred(&self, base: Symbol, arity: usize) -> Option<PredId> {
         self.running_map.get(&(base, arity as u32)).copied()

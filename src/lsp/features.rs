@@ -191,7 +191,7 @@ fn describe_action(analysis: &Analysis, action: &Action) -> String {
         .collect();
     if action.snap != Snap::Instant {
         if durations.is_empty() {
-            text.push_str("\n- duration: none given (the default, 1 time unit, with warning W0006)");
+            text.push_str("\n- duration: none given (the default, at least 1 time unit, with warning W0006)");
         } else {
             text.push_str(&format!("\n- duration: {}", durations.join(" ")));
         }

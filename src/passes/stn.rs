@@ -25,9 +25,9 @@ pub fn running_term(kb: &Kb, step: &PopStep) -> Term {
     }
 }
 
-/// The default bounds: [`DEFAULT_DURATION`] for both.
+/// The default bounds: at least [`DEFAULT_DURATION`], no maximum.
 fn default_bounds() -> Bounds {
-    Bounds { min: DEFAULT_DURATION * UNITS, max: Some(DEFAULT_DURATION * UNITS), source: DurationSource::Default }
+    Bounds { min: DEFAULT_DURATION * UNITS, max: None, source: DurationSource::Default }
 }
 
 /// A number of KB time units as STN time, rounded to the nearest thousandth.
@@ -132,7 +132,7 @@ pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, diags: 
                     diags.push(
                         Diagnostic::warning(
                             codes::DEFAULT_DURATION,
-                            format!("`{base}` has no duration: it takes {DEFAULT_DURATION} time unit"),
+                            format!("`{base}` has no duration: it takes at least {DEFAULT_DURATION} time unit"),
                         )
                         .primary(action.name.span, "this durative action")
                         .with_note(format!("no `duration/3` clause answers `duration({shown}, Min, Max)`"))

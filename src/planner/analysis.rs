@@ -366,6 +366,27 @@ impl Explainer<'_, '_> {
                 self.label(goal.span, format!("`{goal_shown}` is not provable"));
                 return;
             }
+            // InvalidAtEnd is checked against the goal: a literal that meets it rules the action
+            // out for the whole problem (the paper's meaning), which is why it never applies.
+            let problem = &self.kb.problems[task.problem];
+            for (term, literal) in schema.invalid_at_end.iter().zip(&action.invalid_at_end) {
+                let forbidden = substitute(term, &task.consts, &bindings);
+                if let Some(goal) = problem.goal.iter().find(|g| unifiable(&forbidden, &g.term)) {
+                    let forbidden_shown = hir::term_to_string(self.interner, &forbidden, &action.vars);
+                    let goal_shown = hir::term_to_string(self.interner, &goal.term, &problem.vars);
+                    self.notes.push(format!(
+                        "`{action_name}` would add `{shown}`, but its InvalidAtEnd condition `{forbidden_shown}` \
+                         meets the goal literal `{goal_shown}`, so it never applies in this problem"
+                    ));
+                    self.notes.push(
+                        "an InvalidAtEnd literal is checked against the goal, not the state: it keeps an action \
+                         from undoing part of the goal"
+                            .to_string(),
+                    );
+                    self.label(literal.span, format!("`{forbidden_shown}` is in the goal"));
+                    return;
+                }
+            }
             self.notes
                 .push(format!("`{action_name}` would add `{shown}`, but its conditions never hold together for it"));
             self.label(action.name.span, "never applicable for this".to_string());

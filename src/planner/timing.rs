@@ -67,7 +67,8 @@ impl Durations {
         let min = machine.new_var();
         let max = machine.new_var();
         let goal = machine.new_compound(sym::DURATION, &[action, min, max]);
-        let default = (DEFAULT_DURATION * UNITS, DEFAULT_DURATION * UNITS);
+        // No answer: at least the default, no maximum (as the STN pass has it).
+        let default = (DEFAULT_DURATION * UNITS, i64::MAX);
         let mut found = None;
         machine
             .solve(goal, |m| {

@@ -315,12 +315,12 @@ impl Exporter<'_> {
     fn collect(&mut self, facts: &[FactId], instances: &[Applicable]) {
         let mut predicate_names = Names::default();
         let mut arities: FxHashMap<Symbol, usize> = FxHashMap::default();
-        for pred in 0..self.task.facts.pred_count() {
-            let (name, _) = self.task.facts.pred_info(PredId(pred as u32));
+        let fluents: Vec<PredId> = self.task.facts.fluent_preds().collect();
+        for &pred in &fluents {
+            let (name, _) = self.task.facts.pred_info(pred);
             *arities.entry(name).or_default() += 1;
         }
-        for pred in 0..self.task.facts.pred_count() {
-            let pred = PredId(pred as u32);
+        for pred in fluents {
             let (name, arity) = self.task.facts.pred_info(pred);
             let text = self.interner.resolve(name);
             let wanted = if arities[&name] > 1 { format!("{text}_{arity}") } else { text.to_string() };
@@ -645,11 +645,10 @@ impl Exporter<'_> {
         writeln!(domain, "(define (domain {domain_name})").unwrap();
         writeln!(domain, "  (:requirements {})", requirements.join(" ")).unwrap();
         writeln!(domain, "  (:predicates").unwrap();
-        let mut preds: Vec<(String, usize)> = (0..task.facts.pred_count())
-            .map(|p| {
-                let pred = PredId(p as u32);
-                (self.predicate_names[&pred].clone(), task.facts.pred_info(pred).1)
-            })
+        let mut preds: Vec<(String, usize)> = task
+            .facts
+            .fluent_preds()
+            .map(|pred| (self.predicate_names[&pred].clone(), task.facts.pred_info(pred).1))
             .collect();
         for (pred, name) in &self.complemented {
             preds.push((name.clone(), task.facts.pred_info(*pred).1));
@@ -1013,8 +1012,7 @@ impl Exporter<'_> {
                 }
                 Ok(None) => {
                     defaulted = true;
-                    let unit = crate::ir::stn::DEFAULT_DURATION as f64;
-                    (unit, Some(unit))
+                    (crate::ir::stn::DEFAULT_DURATION as f64, None)
                 }
                 Err(why) => {
                     let shown = hir::term_to_string(self.interner, &term, &VarTable::default());
@@ -1032,7 +1030,7 @@ impl Exporter<'_> {
             let span = self.task.schemas.iter().find(|s| s.base == base).map(|s| self.kb.actions[s.action].name.span);
             let mut diagnostic = Diagnostic::warning(
                 codes::DEFAULT_DURATION,
-                format!("`{text}` has no duration: it takes {} time unit", crate::ir::stn::DEFAULT_DURATION),
+                format!("`{text}` has no duration: it takes at least {} time unit", crate::ir::stn::DEFAULT_DURATION),
             );
             if let Some(span) = span {
                 diagnostic = diagnostic.primary(span, "this durative action");
