@@ -590,6 +590,16 @@ impl Replayer<'_, '_> {
         let mut next = state.clone();
         for effect in &action.effects {
             let fact = resolve(&effect.literal.term, bindings);
+            if !fact.is_ground() && effect.kind == EffectKind::Del {
+                // Every fact that unifies goes, as SWI-Prolog's delete/3 removes them.
+                let gone: Vec<String> =
+                    next.terms.iter().filter(|t| unifiable(&fact, t)).map(|t| key(self.interner, t)).collect();
+                next.terms.retain(|t| !unifiable(&fact, t));
+                for g in gone {
+                    next.facts.remove(&g);
+                }
+                continue;
+            }
             if !fact.is_ground() {
                 found.miss.get_or_insert(Miss {
                     action: index,

@@ -109,7 +109,7 @@ codes! {
     UNKNOWN_PREDICATE = "E0210": "unknown predicate";
     WRONG_ARITY = "E0211": "a predicate used with a different arity";
     UNREACHABLE_GOAL = "E0212": "a goal literal nothing can make true";
-    UNBOUND_EFFECT_VARIABLE = "E0213": "an effect variable nothing binds";
+    UNBOUND_EFFECT_VARIABLE = "E0213": "a goal that needs an effect variable nothing binds";
     NOT_CALLABLE = "E0214": "a literal or action name that is not an atom or compound";
     BAD_PROBLEM = "E0215": "a malformed problem";
     BAD_DURATION = "E0216": "a malformed `duration/3`";
@@ -160,6 +160,9 @@ codes! {
     DEFAULT_DURATION = "W0006": "a durative action without a duration";
     EXPORT_LEAVES_OUT = "W0007": "a KB part the PDDL export leaves out";
     ARITY_NEVER_MATCHES = "W0008": "a state literal with an arity no state fact has";
+    OPEN_DELETE = "W0009": "a `del` with a variable nothing binds";
+    OPEN_ADD = "W0010": "an `add` with a variable nothing binds";
+    UNPAIRED_ARITIES = "W0011": "a `_start` and an `_end` with different arities, planned as unrelated actions";
 }
 
 #[cfg(test)]

@@ -650,6 +650,40 @@ impl Checker<'_> {
 
     fn effect_variables(&mut self) {
         for action in &self.kb.actions {
+            // A start's or an instant's name must be ground when it applies (an end's name
+            // takes its start's values; an arm-level action's, its mapping's).
+            if action.snap != Snap::End && action.level == Level::High {
+                let mut conditions: BTreeSet<VarId> = BTreeSet::new();
+                for l in &action.valid {
+                    l.term.for_each_var(&mut |v| {
+                        conditions.insert(v);
+                    });
+                }
+                for g in &action.on_kb {
+                    g.for_each_call(&mut |l| {
+                        l.term.for_each_var(&mut |v| {
+                            conditions.insert(v);
+                        })
+                    });
+                }
+                let mut free: Vec<VarId> = Vec::new();
+                action.name.term.for_each_var(&mut |v| {
+                    if !conditions.contains(&v) && !free.contains(&v) {
+                        free.push(v);
+                    }
+                });
+                for v in free {
+                    let info = action.vars.get(v);
+                    let name = self.name(info.name).to_string();
+                    let at = info.occurrences.first().copied().unwrap_or(action.name.span);
+                    self.diags.push(
+                        Diagnostic::warning(codes::OPEN_ADD, format!("variable `{name}` in the action's name is never bound"))
+                            .primary(at, "not bound when the action applies")
+                            .with_note("a plan names ground actions, so kbc never applies this one; Prolog would leave the variable unbound in the plan")
+                            .with_help(format!("bind `{name}` in the Valid list or an OnKB goal")),
+                    );
+                }
+            }
             let mut bound: BTreeSet<VarId> = BTreeSet::new();
             action.name.term.for_each_var(&mut |v| {
                 bound.insert(v);
@@ -687,13 +721,35 @@ impl Checker<'_> {
                         .copied()
                         .unwrap_or(effect.span);
                     let shown_name = if name == "_" { "`_`".to_string() } else { format!("`{name}`") };
-                    self.diags.push(
-                        Diagnostic::error(codes::UNBOUND_EFFECT_VARIABLE, format!("variable {shown_name} in an effect is never bound"))
-                            .primary(at, "not bound when the effect applies")
-                            .secondary(action.name.span, "the action")
-                            .with_note("effect variables must be bound by the action's name, its Valid list or OnKB; Invalid conditions bind nothing")
-                            .with_help(format!("add {shown_name} to the action's arguments, or bind it in Valid or OnKB")),
+                    // Prolog runs both: a deletion removes the facts that unify, an addition
+                    // would put a non-ground fact in the state, which kbc does not do.
+                    let diagnostic = match effect.kind {
+                        EffectKind::Del => Diagnostic::warning(
+                            codes::OPEN_DELETE,
+                            format!("variable {shown_name} in a `del` effect is never bound"),
+                        )
+                        .primary(at, "matches any value")
+                        .secondary(action.name.span, "the action")
+                        .with_note("the deletion removes every fact of the state that unifies with it, as SWI-Prolog's `delete/3` does")
+                        .with_help("to delete one particular fact, bind the variable in Valid"),
+                        EffectKind::Add => Diagnostic::warning(
+                            codes::OPEN_ADD,
+                            format!("variable {shown_name} in an `add` effect is never bound"),
+                        )
+                        .primary(at, "not bound when the effect applies")
+                        .secondary(action.name.span, "the action")
+                        .with_note("a state holds ground facts only, so this action never applies; a plan that needs it is not found"),
+                    };
+                    let diagnostic = diagnostic.with_note(
+                        "effect variables are bound by the action's name, its Valid list or OnKB; Invalid conditions bind nothing",
                     );
+                    self.diags.push(if effect.kind == EffectKind::Add {
+                        diagnostic.with_help(format!(
+                            "add {shown_name} to the action's arguments, or bind it in Valid or OnKB"
+                        ))
+                    } else {
+                        diagnostic
+                    });
                 }
             }
         }
@@ -809,7 +865,7 @@ impl Checker<'_> {
     }
 }
 
-fn join_or(arities: &[usize]) -> String {
+pub(crate) fn join_or(arities: &[usize]) -> String {
     match arities {
         [] => String::new(),
         [one] => one.to_string(),

@@ -32,6 +32,7 @@ pub fn lower(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mu
         lowerer.clause(clause);
     }
     lowerer.finish_init_goal_states();
+    lowerer.unpair_mismatched_arities();
     lowerer.kb
 }
 
@@ -808,6 +809,49 @@ impl Lowerer<'_> {
         }
         if let Some(list) = list {
             *slot = Some((list, term.name_span()));
+        }
+    }
+
+    /// A high-level `X_start` or `X_end` whose counterpart exists only with another arity
+    /// does not pair: the paper's planner treats the two as unrelated actions and finds its
+    /// plan, so kbc plans each as an instantaneous action under its full name, with warning
+    /// W0011. (Arm-level pairs keep error E0205.)
+    fn unpair_mismatched_arities(&mut self) {
+        let snaps: Vec<(Level, Symbol, Snap, usize)> =
+            self.kb.actions.iter().map(|a| (a.level, a.base, a.snap, a.name.arity())).collect();
+        for index in 0..self.kb.actions.len() {
+            let (level, base, snap, arity) = snaps[index];
+            if level != Level::High || snap == Snap::Instant {
+                continue;
+            }
+            let other = if snap == Snap::Start { Snap::End } else { Snap::Start };
+            let counterparts: Vec<usize> =
+                snaps.iter().filter(|s| s.0 == level && s.1 == base && s.2 == other).map(|s| s.3).collect();
+            if counterparts.is_empty() || counterparts.contains(&arity) {
+                continue;
+            }
+            let action = &mut self.kb.actions[index];
+            action.snap = Snap::Instant;
+            action.base = action.name.name();
+            let own = self.interner.resolve(action.name.name()).to_string();
+            let base_text = self.interner.resolve(base).to_string();
+            let suffix = if other == Snap::Start { "start" } else { "end" };
+            let mut counterparts = counterparts;
+            counterparts.sort_unstable();
+            counterparts.dedup();
+            let others = crate::passes::check::join_or(&counterparts);
+            self.diags.push(
+                Diagnostic::warning(
+                    codes::UNPAIRED_ARITIES,
+                    format!("`{own}` takes {} but `{base_text}_{suffix}` takes {others}: they do not pair", plural(arity, "argument")),
+                )
+                .primary(action.name.span, plural(arity, "argument"))
+                .with_note(format!(
+                    "kbc plans `{own}` as an instantaneous action, unrelated to `{base_text}_{suffix}`, as the paper's planner does; \
+                     the schedule gives it no duration, and `duration({base_text}(...), ...)` does not apply to it"
+                ))
+                .with_help("give the start and the end the same arguments to make them one durative action"),
+            );
         }
     }
 

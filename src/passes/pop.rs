@@ -132,6 +132,19 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
                     builder.history(&fact).adds.push(i);
                     state.insert(key, fact);
                 }
+                EffectKind::Del if !fact.is_ground() => {
+                    // A variable nothing binds: every fact that unifies goes (docs/dsl.md).
+                    let mut gone: Vec<(String, Term)> = state
+                        .iter()
+                        .filter(|(_, t)| crate::ir::unify::unifiable(&fact, t))
+                        .map(|(k, t)| (k.clone(), t.clone()))
+                        .collect();
+                    gone.sort_by(|a, b| a.0.cmp(&b.0));
+                    for (key, term) in gone {
+                        state.remove(&key);
+                        builder.history(&term).dels.push(i);
+                    }
+                }
                 EffectKind::Del => {
                     if state.remove(&key).is_some() {
                         builder.history(&fact).dels.push(i);

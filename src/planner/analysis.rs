@@ -287,7 +287,30 @@ fn bind_head(task: &Task, head: &LiteralPattern, target: &[Term], bindings: &mut
     true
 }
 
+/// True if effect `e` of `schema` has a variable its name, Valid and OnKB lists do not bind.
+fn open_add(schema: &crate::ir::task::Schema, e: usize) -> bool {
+    fn vars(pattern: &Pattern, out: &mut Vec<u32>) {
+        match pattern {
+            Pattern::Const(_) => {}
+            Pattern::Var(v) => out.push(*v),
+            Pattern::Compound(_, args) => args.iter().for_each(|a| vars(a, out)),
+        }
+    }
+    let mut bound = Vec::new();
+    vars(&schema.name, &mut bound);
+    schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| vars(a, &mut bound)));
+    for goal in schema.on_kb.iter() {
+        goal.for_each_call(&mut |l| l.term.for_each_var(&mut |v| bound.push(v.0)));
+    }
+    let mut own = Vec::new();
+    schema.effects[e].1.args.iter().for_each(|a| vars(a, &mut own));
+    own.iter().any(|v| !bound.contains(v))
+}
+
 struct Explainer<'a, 'p> {
+    /// Whether the explanation found an `add` with a variable nothing binds (then the
+    /// diagnostic is E0213, naming the action).
+    open_add: bool,
     kb: &'a Kb,
     interner: &'a Interner,
     relaxation: Relaxation,
@@ -341,6 +364,24 @@ impl Explainer<'_, '_> {
             let mut bindings = vec![None; schema.vars];
             if !bind_head(task, &schema.effects[e].1, target, &mut bindings) {
                 continue;
+            }
+            // An `add` with a variable nothing binds (W0010) never applies: this is the reason.
+            let effect_span = action
+                .effects
+                .iter()
+                .filter(|ef| ef.kind == EffectKind::Add)
+                .nth(schema.effects[..e].iter().filter(|(k, _)| *k == EffectKind::Add).count())
+                .map(|ef| ef.span);
+            if let Some(span) = effect_span
+                && open_add(&schema, e)
+            {
+                self.notes.push(format!(
+                    "`{action_name}` would add `{shown}`, but a variable of that effect is bound by nothing, so \
+                     `{action_name}` never applies: a state holds ground facts only"
+                ));
+                self.label(span, "a variable here is bound by nothing".to_string());
+                self.open_add = true;
+                return;
             }
             let blocked = schema.valid.iter().find(|l| !self.relaxation.reached(task, l, &bindings)).cloned();
             if let Some(literal) = blocked {
@@ -447,6 +488,7 @@ pub fn explain_unreachable(
     engine_steps: u64,
 ) -> Option<Diagnostic> {
     let mut explainer = Explainer {
+        open_add: false,
         kb,
         interner,
         relaxation: Relaxation::unprojected(task),
@@ -466,10 +508,10 @@ pub fn explain_unreachable(
     let literal = task.goal[first].clone();
     let target: Vec<Term> = goal.term.args().to_vec();
     explainer.why(task, literal.pred, &target, &problem.vars, 3);
-    let mut diagnostic =
-        Diagnostic::error(codes::UNREACHABLE_GOAL_RELAXED, format!("goal `{shown}` can never be reached"))
-            .primary(goal.span, "no sequence of actions makes this true")
-            .with_note("even ignoring every deletion, the actions never produce it from the initial state");
+    let code = if explainer.open_add { codes::UNBOUND_EFFECT_VARIABLE } else { codes::UNREACHABLE_GOAL_RELAXED };
+    let mut diagnostic = Diagnostic::error(code, format!("goal `{shown}` can never be reached"))
+        .primary(goal.span, "no sequence of actions makes this true")
+        .with_note("even ignoring every deletion, the actions never produce it from the initial state");
     for note in explainer.notes {
         diagnostic = diagnostic.with_note(note);
     }

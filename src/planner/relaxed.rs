@@ -279,10 +279,29 @@ impl Relaxation {
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
+        // A predicate some action deletes with an unbound variable (every fact that unifies
+        // goes) is left out: the ground task could not say which facts that deletion removes,
+        // and a relaxation that knows less stays sound.
+        let mut open_deletes: Vec<PredId> = Vec::new();
+        for schema in &task.schemas {
+            let mut bound = Vec::new();
+            var_occurrences(&schema.name, &mut bound);
+            schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| var_occurrences(a, &mut bound)));
+            for goal in schema.on_kb.iter() {
+                goal.for_each_call(&mut |l| term_vars(&l.term, &mut bound));
+            }
+            for (kind, literal) in schema.effects.iter() {
+                let mut own = Vec::new();
+                literal.args.iter().for_each(|a| var_occurrences(a, &mut own));
+                if *kind == EffectKind::Del && own.iter().any(|v| !bound.contains(v)) {
+                    open_deletes.push(literal.pred);
+                }
+            }
+        }
         let mut negated: Vec<PredId> = Vec::new();
         for schema in &task.schemas {
             for literal in schema.invalid.iter() {
-                if !negated.contains(&literal.pred) {
+                if !negated.contains(&literal.pred) && !open_deletes.contains(&literal.pred) {
                     negated.push(literal.pred);
                 }
             }

@@ -356,9 +356,14 @@ impl<'p> Successors<'p> {
 
     /// Checks Invalid and InvalidAtEnd and records the action.
     fn finish(&mut self, cx: &mut Context<'_>, ends: Option<ConstId>) {
-        // The name and the effects must be ground to be applied.
+        // The name and the added facts must be ground to be applied (a deletion with an
+        // unbound variable removes every fact that unifies with it).
         if !pattern_bound(&cx.schema.name, &self.bindings)
-            || cx.schema.effects.iter().any(|(_, l)| !l.args.iter().all(|a| pattern_bound(a, &self.bindings)))
+            || cx
+                .schema
+                .effects
+                .iter()
+                .any(|(kind, l)| *kind == EffectKind::Add && !l.args.iter().all(|a| pattern_bound(a, &self.bindings)))
         {
             return;
         }
@@ -545,7 +550,20 @@ pub fn apply(task: &mut Task, state: &State, action: &Applicable) -> State {
     for (kind, literal) in schema.effects.iter() {
         let args: Option<Vec<ConstId>> =
             literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
-        let Some(args) = args else { continue };
+        let Some(args) = args else {
+            if *kind == EffectKind::Del {
+                // Unbound variables: every fact that unifies goes (as SWI-Prolog's delete/3).
+                let mut scratch = action.bindings.to_vec();
+                let mut trail = Vec::new();
+                current.retain(|&f| {
+                    let unifies = facts.pred_of(f) == literal.pred
+                        && match_literal(literal, f, consts, facts, &mut scratch, &mut trail);
+                    undo(&mut scratch, &mut trail, 0);
+                    !unifies
+                });
+            }
+            continue;
+        };
         let fact = facts.intern(literal.pred, &args);
         match kind {
             EffectKind::Add => {
