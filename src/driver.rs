@@ -59,8 +59,9 @@ pub fn frontend(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLoad
         declares_actions |= matches!(head.callable(), Some((sym::ACTION | sym::LL_ACTION, _)));
         declares_ll_actions |= matches!(head.callable(), Some((sym::LL_ACTION, _)));
         declares_mappings |= matches!(head.callable(), Some((sym::MAPPING, _)));
-        declares_problems |= matches!(head.callable(), Some((sym::INIT_STATE | sym::GOAL_STATE, 1)))
-            || body.is_some_and(|b| matches!(b.callable(), Some((sym::GO, _))));
+        declares_problems |=
+            matches!(head.callable(), Some((sym::INIT_STATE | sym::GOAL_STATE | sym::HL_INIT | sym::HL_GOAL, 1)))
+                || body.is_some_and(|b| matches!(b.callable(), Some((sym::GO, _))));
     }
     let mut uses_std_domain = false;
     let loaded = if declares_mappings && !declares_ll_actions {

@@ -93,6 +93,11 @@ well_known_symbols! {
     MIN = "min",
     MAX = "max",
     ANON = "_",
+    // Spellings of problems in KBs written for the authors' two-level framework.
+    HL_INIT = "hl_init",
+    HL_GOAL = "hl_goal",
+    LL_INIT = "ll_init",
+    LL_GOAL = "ll_goal",
 }
 
 /// The table of interned names.

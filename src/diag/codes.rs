@@ -163,6 +163,7 @@ codes! {
     OPEN_DELETE = "W0009": "a `del` with a variable nothing binds";
     OPEN_ADD = "W0010": "an `add` with a variable nothing binds";
     UNPAIRED_ARITIES = "W0011": "a `_start` and an `_end` with different arities, planned as unrelated actions";
+    MISSPELT_DECLARATION = "W0012": "a fact named like a kbc declaration";
 }
 
 #[cfg(test)]

@@ -38,6 +38,7 @@ pub fn check(kb: &Kb, interner: &Interner, diags: &mut Diagnostics) {
     checker.effect_variables();
     checker.durations();
     checker.discontiguous();
+    checker.misspelt_declarations();
 }
 
 type Key = (Symbol, usize);
@@ -335,7 +336,129 @@ impl Checker<'_> {
         self.diags.push(diagnostic);
     }
 
+    /// Clauses whose predicate is one edit away from a declaration kbc reads (`mappings/2`
+    /// for `mapping/2`) with the same arity, and that no OnKB goal or rule calls: a KB fact
+    /// nothing reads, most likely meant as the declaration.
+    fn misspelt_declarations(&mut self) {
+        const DECLARATIONS: &[(&str, usize)] = &[
+            ("action", 6),
+            ("ll_action", 6),
+            ("mapping", 2),
+            ("resources", 1),
+            ("duration", 3),
+            ("init_state", 1),
+            ("goal_state", 1),
+            ("hl_init", 1),
+            ("hl_goal", 1),
+        ];
+        let mut called: BTreeSet<Key> = BTreeSet::new();
+        let mut note_calls = |goal: &Goal| {
+            goal.for_each_call(&mut |l| {
+                called.insert((l.name(), l.arity()));
+            })
+        };
+        for action in &self.kb.actions {
+            action.on_kb.iter().for_each(&mut note_calls);
+        }
+        for clause in &self.kb.clauses {
+            if let Some(body) = &clause.body {
+                note_calls(body);
+            }
+        }
+        let mut reported: BTreeSet<Key> = BTreeSet::new();
+        for clause in &self.kb.clauses {
+            let key = (clause.head.name(), clause.head.arity());
+            if called.contains(&key) || reported.contains(&key) {
+                continue;
+            }
+            let name = self.name(key.0).to_string();
+            let candidates: Vec<&str> = DECLARATIONS.iter().filter(|d| d.1 == key.1).map(|d| d.0).collect();
+            let Some(found) = best_match(&name, candidates) else { continue };
+            reported.insert(key);
+            self.diags.push(
+                Diagnostic::warning(
+                    codes::MISSPELT_DECLARATION,
+                    format!("`{name}/{}` is not a kbc declaration: did you mean `{found}/{}`?", key.1, key.1),
+                )
+                .primary(clause.head.name_span, "read as a plain KB fact, which nothing uses")
+                .with_note(format!(
+                    "kbc reads `{found}/{}` facts; `{name}` facts only serve OnKB goals, and none calls them",
+                    key.1
+                ))
+                .with_fix(format!("replace with `{found}`"), clause.head.name_span, found.to_string())
+                .with_help(format!("rename it `{found}`")),
+            );
+        }
+    }
+
     // ---- names ----------------------------------------------------------------------------
+
+    /// The rules (indices into `Kb::clauses`) that only run tests, as older KBs write them:
+    /// `testCase(A, T) :- test3(A, T).`, `testTrace :- leash(-all), trace, testCase(_, _).`
+    /// Their bodies call nothing but problems, other such rules, and SWI-Prolog's debugger and
+    /// output predicates, none of which planning uses.
+    fn test_wrappers(&self) -> BTreeSet<usize> {
+        const DEBUGGER: &[(&str, usize)] = &[
+            ("leash", 1),
+            ("trace", 0),
+            ("trace", 1),
+            ("trace", 2),
+            ("notrace", 0),
+            ("spy", 1),
+            ("nospy", 1),
+            ("debug", 0),
+            ("nodebug", 0),
+            ("visible", 1),
+            ("write", 1),
+            ("writeln", 1),
+            ("print", 1),
+            ("nl", 0),
+            ("format", 1),
+            ("format", 2),
+            ("time", 1),
+        ];
+        let problems: BTreeSet<Key> = self
+            .kb
+            .problems
+            .iter()
+            .map(|p| {
+                let arity = match p.form {
+                    hir::ProblemForm::Go(2) | hir::ProblemForm::InitGoalState => 0,
+                    hir::ProblemForm::Go(_) => 2,
+                };
+                (p.name, arity)
+            })
+            .collect();
+        let mut wrappers: BTreeSet<usize> = BTreeSet::new();
+        let mut names: BTreeSet<Key> = problems;
+        loop {
+            let mut changed = false;
+            for (index, clause) in self.kb.clauses.iter().enumerate() {
+                let Some(body) = &clause.body else { continue };
+                if wrappers.contains(&index) {
+                    continue;
+                }
+                let mut calls_a_test = false;
+                let mut only_tests = true;
+                body.for_each_call(&mut |l| {
+                    let key = (l.name(), l.arity());
+                    if names.contains(&key) {
+                        calls_a_test = true;
+                    } else if !DEBUGGER.contains(&(self.name(key.0), key.1)) {
+                        only_tests = false;
+                    }
+                });
+                if calls_a_test && only_tests {
+                    wrappers.insert(index);
+                    names.insert((clause.head.name(), clause.head.arity()));
+                    changed = true;
+                }
+            }
+            if !changed {
+                return wrappers;
+            }
+        }
+    }
 
     fn names(&mut self) {
         let kb = self.kb;
@@ -359,7 +482,21 @@ impl Checker<'_> {
                 self.kb_goal(goal);
             }
         }
-        for clause in &kb.clauses {
+        let wrappers = self.test_wrappers();
+        for (index, clause) in kb.clauses.iter().enumerate() {
+            if wrappers.contains(&index) {
+                let shown = self.indicator((clause.head.name(), clause.head.arity()));
+                self.diags.push(
+                    Diagnostic::note(format!("`{shown}` is a test wrapper: kbc ignores it"))
+                        .primary(clause.head.span, "runs problems or the debugger")
+                        .with_note(
+                            "its body only calls problems (`go/2`, `go/4`, `go/5` tests), other wrappers and \
+                             SWI-Prolog's debugger or output predicates; kbc plans the problems themselves",
+                        )
+                        .with_help("choose a problem with `--problem NAME`"),
+                );
+                continue;
+            }
             if let Some(body) = &clause.body {
                 self.kb_goal(body);
             }

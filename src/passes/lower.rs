@@ -297,6 +297,19 @@ impl Lowerer<'_> {
                 if goal.args()[0]
                     .as_compound(sym::LIBRARY, 1)
                     .is_some_and(|l| l.args[0].kind == TermKind::Atom(sym::LISTS)) => {}
+            _ if matches!(
+                (self.interner.resolve(name), goal.args().len()),
+                ("trace" | "leash" | "spy" | "nospy" | "visible", _) | ("notrace" | "debug" | "nodebug", 0)
+            ) =>
+            {
+                // SWI-Prolog's debugger, as KBs for the paper's planner switch it on: nothing
+                // to do with planning, so a note rather than a warning.
+                let shown = self.show(goal);
+                self.diags.push(
+                    Diagnostic::note(format!("debugger directive `{shown}` ignored"))
+                        .primary(goal.span, "SWI-Prolog's debugger; kbc does not run directives"),
+                );
+            }
             _ => {
                 let shown = self.show(goal);
                 let mut diagnostic =
@@ -362,7 +375,14 @@ impl Lowerer<'_> {
         if let Some((name, _)) = head.callable()
             && matches!(
                 name,
-                sym::ACTION | sym::LL_ACTION | sym::MAPPING | sym::RESOURCES | sym::INIT_STATE | sym::GOAL_STATE
+                sym::ACTION
+                    | sym::LL_ACTION
+                    | sym::MAPPING
+                    | sym::RESOURCES
+                    | sym::INIT_STATE
+                    | sym::GOAL_STATE
+                    | sym::HL_INIT
+                    | sym::HL_GOAL
             )
         {
             self.diags.push(
@@ -421,6 +441,17 @@ impl Lowerer<'_> {
                 );
             }
             (sym::INIT_STATE, 1) | (sym::GOAL_STATE, 1) => self.state_fact(name, term, span),
+            // The authors' two-level KBs spell the high-level problem `hl_init`/`hl_goal`.
+            (sym::HL_INIT, 1) => self.state_fact(sym::INIT_STATE, term, span),
+            (sym::HL_GOAL, 1) => self.state_fact(sym::GOAL_STATE, term, span),
+            (sym::LL_INIT | sym::LL_GOAL, 1) => {
+                let shown = self.interner.resolve(name).to_string();
+                self.diags.push(
+                    Diagnostic::note(format!("`{shown}/1` (the arm-level state) is not used yet"))
+                        .primary(term.name_span(), "read, and left out of planning")
+                        .with_note("kbc plans the high-level problem (`hl_init`/`hl_goal`, `init_state`/`goal_state`); refining it into arm-level actions is not implemented"),
+                );
+            }
             _ => {
                 let mut scope = Scope::default();
                 let head = self.literal(term, &mut scope, "a fact");
