@@ -956,3 +956,73 @@ fn the_minimal_disagreements_plan() {
         }
     }
 }
+
+/// `--search paper` against the paper's Algorithm 1 written in Prolog
+/// (tests/support/paper_search.pl): on random KBs, the same first plan, or no plan for both.
+/// Skips, saying so, without `swipl` (`.ci/run` installs it).
+#[test]
+fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
+    if std::process::Command::new("swipl").arg("--version").output().is_err() {
+        eprintln!("skipped: swipl is not installed");
+        return;
+    }
+    let count: u64 = std::env::var("KBC_PAPER_KBS").ok().and_then(|n| n.parse().ok()).unwrap_or(150);
+    let dir = std::env::temp_dir().join(format!("kbc-paper-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let support = std::fs::canonicalize("tests/support/paper_search.pl").expect("the Prolog planner");
+    const DEPTH: u32 = 6;
+    let (mut compared, mut with_plan) = (0, 0);
+    let mut failures = Vec::new();
+    for seed in 1..=count {
+        let kb = generate(seed);
+        let text = kb_text(&kb);
+        let mut db = SourceDb::new();
+        let root = db.add(format!("seed{seed}.pl"), None, text.clone());
+        let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
+        if frontend.diagnostics.has_errors() {
+            continue;
+        }
+        let mut task = kbc::passes::task::build(&frontend.kb, 0);
+        let budget = Budget { max_states: 100_000, ..Budget::default() };
+        let options =
+            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, improve: None };
+        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result
+        {
+            Ok(plan) => plan
+                .steps
+                .iter()
+                .map(|s| {
+                    hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', "")
+                })
+                .collect::<Vec<_>>(),
+            Err(Failure::Exhausted { .. } | Failure::Unsolvable(_)) => vec!["no plan".to_string()],
+            Err(_) => continue,
+        };
+        let file = dir.join(format!("seed{seed}.pl"));
+        std::fs::write(&file, &text).expect("a scratch file");
+        let goal = format!(
+            "consult('{}'), consult('{}'), call_with_time_limit(20, run(prob, {DEPTH})), halt",
+            file.display(),
+            support.display()
+        );
+        let output = std::process::Command::new("swipl")
+            .args(["-q", "-g", &goal, "-t", "halt(1)"])
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("swipl runs");
+        if !output.status.success() {
+            failures.push(format!("seed {seed}: swipl failed: {}", String::from_utf8_lossy(&output.stderr)));
+            continue;
+        }
+        let theirs: Vec<String> = String::from_utf8_lossy(&output.stdout).lines().map(str::to_string).collect();
+        compared += 1;
+        with_plan += usize::from(ours != ["no plan"]);
+        if ours != theirs {
+            failures.push(format!("seed {seed}: kbc {ours:?}, Algorithm 1 in Prolog {theirs:?}\n{text}"));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("compared {compared} KBs, {with_plan} with a plan");
+    assert!(with_plan * 10 > compared, "too few plans to compare: {with_plan} of {compared}");
+    assert!(failures.is_empty(), "{} differ:\n\n{}", failures.len(), failures.iter().take(4).cloned().collect::<Vec<_>>().join("\n\n"));
+}

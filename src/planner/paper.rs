@@ -17,13 +17,15 @@
 
 use rustc_hash::FxHashSet;
 
-use super::successors::{self, Applicable, Successors};
+use super::successors::{self, Applicable, PaperOrder, Successors};
 use super::{Budget, Failure, Outcome, Progress, Stats, over_budget, plan_from};
 use crate::ir::plan::Plan;
-use crate::ir::task::{State, Task};
+use crate::ir::task::{FactId, State, Task};
 
 struct Frame {
     state: State,
+    /// The state as the paper's lists: newest addition first, matched in this order.
+    order: PaperOrder,
     actions: Vec<Applicable>,
     next: usize,
 }
@@ -48,11 +50,16 @@ pub fn search(
     let mut on_path: FxHashSet<State> = FxHashSet::default();
     let mut bytes = init.footprint();
     on_path.insert(init.clone());
+    // The initial list is the problem's init list, in the order written (facts are interned
+    // in that order).
+    let mut facts: Vec<FactId> = init.facts().collect();
+    facts.sort_unstable();
+    let init_order = PaperOrder { facts, running: Vec::new() };
     let mut actions = Vec::new();
-    if let Err(error) = successors.applicable(task, &init, &mut actions) {
+    if let Err(error) = successors.applicable_in_order(task, &init, &init_order, &mut actions) {
         return Outcome::failed(Failure::Condition(error), stats);
     }
-    let mut stack = vec![Frame { state: init, actions, next: 0 }];
+    let mut stack = vec![Frame { state: init, order: init_order, actions, next: 0 }];
     stats.expanded = 1;
     loop {
         let Some(frame) = stack.last_mut() else {
@@ -67,6 +74,7 @@ pub fn search(
         };
         frame.next += 1;
         let child = successors::apply(task, &frame.state, &action);
+        let child_order = successors::apply_to_order(task, &frame.order, &action);
         stats.generated += 1;
         if successors::goal_reached(task, &child) {
             path.push(action);
@@ -86,7 +94,7 @@ pub fn search(
             return Outcome::ended(found, Failure::Budget(kind), stats);
         }
         let mut actions = Vec::new();
-        if let Err(error) = successors.applicable(task, &child, &mut actions) {
+        if let Err(error) = successors.applicable_in_order(task, &child, &child_order, &mut actions) {
             return Outcome::ended(found, Failure::Condition(error), stats);
         }
         stats.expanded += 1;
@@ -97,6 +105,6 @@ pub fn search(
         stats.peak_bytes = stats.peak_bytes.max(bytes);
         on_path.insert(child.clone());
         path.push(action);
-        stack.push(Frame { state: child, actions, next: 0 });
+        stack.push(Frame { state: child, order: child_order, actions, next: 0 });
     }
 }

@@ -275,7 +275,24 @@ impl<'p> Successors<'p> {
     ) -> Result<(), ConditionError> {
         out.clear();
         for index in 0..task.schemas.len() {
-            self.schema(task, index, state, out)?;
+            self.schema_in(task, index, state, None, out)?;
+        }
+        Ok(())
+    }
+
+    /// [`Successors::applicable`], with Valid literals matched against the state's facts, and
+    /// ends against its running actions, in the orders of `order` (the paper's lists) instead
+    /// of the state's own order.
+    pub fn applicable_in_order(
+        &mut self,
+        task: &mut Task,
+        state: &State,
+        order: &PaperOrder,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
+        out.clear();
+        for index in 0..task.schemas.len() {
+            self.schema_in(task, index, state, Some(order), out)?;
         }
         Ok(())
     }
@@ -288,14 +305,29 @@ impl<'p> Successors<'p> {
         state: &State,
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
+        self.schema_in(task, index, state, None, out)
+    }
+
+    fn schema_in(
+        &mut self,
+        task: &mut Task,
+        index: usize,
+        state: &State,
+        order: Option<&PaperOrder>,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
         let Task { consts, facts, schemas, goal_terms, .. } = task;
         let schema = &schemas[index];
         self.bindings.clear();
         self.bindings.resize(schema.vars, None);
         self.trail.clear();
-        let mut context = Context { consts, facts, goal_terms, schema, index, state, out };
+        let mut context = Context { consts, facts, goal_terms, schema, index, state, order, out };
         if schema.snap == Snap::End {
-            for &running in state.running.iter() {
+            let running: &[ConstId] = match order {
+                Some(order) => &order.running,
+                None => &state.running,
+            };
+            for &running in running {
                 let mark = self.trail.len();
                 if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
                     self.valid(&mut context, 0, Some(running))?;
@@ -319,7 +351,11 @@ impl<'p> Successors<'p> {
             }
             return Ok(());
         }
-        for fact in cx.state.facts_of(literal.pred) {
+        let candidates: Vec<FactId> = match cx.order {
+            Some(order) => order.facts.iter().copied().filter(|&f| cx.facts.pred_of(f) == literal.pred).collect(),
+            None => cx.state.facts_of(literal.pred).collect(),
+        };
+        for fact in candidates {
             let mark = self.trail.len();
             if match_literal(literal, fact, cx.consts, cx.facts, &mut self.bindings, &mut self.trail) {
                 self.valid(cx, position + 1, ends)?;
@@ -406,6 +442,8 @@ struct Context<'a> {
     schema: &'a Schema,
     index: usize,
     state: &'a State,
+    /// The order to match Valid literals in (the paper's state list), if not the state's.
+    order: Option<&'a PaperOrder>,
     out: &'a mut Vec<Applicable>,
 }
 
@@ -539,6 +577,73 @@ pub fn relaxed_reachable(task: &mut Task, machine: Machine<'_>, limit: usize) ->
             return Ok(Reachable { facts, actions: out });
         }
     }
+}
+
+/// A state as the paper's planner keeps it: lists, the newest addition first. The same facts
+/// and running actions as the [`State`] beside it, in the order the paper's search enumerates
+/// them.
+#[derive(Clone, Debug, Default)]
+pub struct PaperOrder {
+    /// The facts.
+    pub facts: Vec<FactId>,
+    /// The running durative actions (`base(args)`).
+    pub running: Vec<ConstId>,
+}
+
+/// The paper's lists after applying `action`: effects in list order, an added fact not yet in
+/// the list put first (the newest addition first, as the paper's planner conses it), a deleted
+/// one taken out; a start's running action put first, an end's taken out.
+pub fn apply_to_order(task: &mut Task, order: &PaperOrder, action: &Applicable) -> PaperOrder {
+    let running = {
+        let mut running = order.running.clone();
+        let schema = &task.schemas[action.schema];
+        match schema.snap {
+            Snap::Start => {
+                let schema = schema.clone();
+                if let Some(instance) = running_instance(&schema, &mut task.consts, &action.bindings) {
+                    running.insert(0, instance);
+                }
+            }
+            Snap::End => {
+                if let Some(position) = action.ends.and_then(|e| running.iter().position(|r| *r == e)) {
+                    running.remove(position);
+                }
+            }
+            Snap::Instant => {}
+        }
+        running
+    };
+    let Task { consts, facts, schemas, .. } = task;
+    let schema = &schemas[action.schema];
+    let mut list: Vec<FactId> = order.facts.clone();
+    for (kind, literal) in schema.effects.iter() {
+        let args: Option<Vec<ConstId>> =
+            literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
+        match (kind, args) {
+            (EffectKind::Add, Some(args)) => {
+                let fact = facts.intern(literal.pred, &args);
+                if !list.contains(&fact) {
+                    list.insert(0, fact);
+                }
+            }
+            (EffectKind::Add, None) => {}
+            (EffectKind::Del, Some(args)) => {
+                let fact = facts.intern(literal.pred, &args);
+                list.retain(|f| *f != fact);
+            }
+            (EffectKind::Del, None) => {
+                let mut scratch = action.bindings.to_vec();
+                let mut trail = Vec::new();
+                list.retain(|&f| {
+                    let unifies = facts.pred_of(f) == literal.pred
+                        && match_literal(literal, f, consts, facts, &mut scratch, &mut trail);
+                    undo(&mut scratch, &mut trail, 0);
+                    !unifies
+                });
+            }
+        }
+    }
+    PaperOrder { facts: list, running }
 }
 
 /// The state after applying `action` to `state`: effects in list order, then the running
