@@ -957,6 +957,35 @@ fn the_minimal_disagreements_plan() {
     }
 }
 
+/// Runs `swipl` on `goal` with a wall-clock limit (the child is killed beyond it); its
+/// standard output, or `None` if it failed or ran out of time.
+fn swipl(goal: &str, limit: Duration) -> Option<String> {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new("swipl")
+        .args(["-q", "-g", goal, "-t", "halt(1)"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .ok()?;
+    let deadline = Instant::now() + limit;
+    let status = loop {
+        if let Some(status) = child.try_wait().ok()? {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let mut out = String::new();
+    child.stdout.take()?.read_to_string(&mut out).ok()?;
+    status.success().then_some(out)
+}
+
 /// `--search paper` against the paper's Algorithm 1 written in Prolog
 /// (tests/support/paper_search.pl): on random KBs, the same first plan, or no plan for both.
 /// Skips, saying so, without `swipl` (`.ci/run` installs it).
@@ -984,37 +1013,24 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         }
         let mut task = kbc::passes::task::build(&frontend.kb, 0);
         let budget = Budget { max_states: 100_000, ..Budget::default() };
-        let options =
-            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, improve: None };
-        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result
-        {
+        let options = Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, improve: None };
+        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result {
             Ok(plan) => plan
                 .steps
                 .iter()
-                .map(|s| {
-                    hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', "")
-                })
+                .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', ""))
                 .collect::<Vec<_>>(),
             Err(Failure::Exhausted { .. } | Failure::Unsolvable(_)) => vec!["no plan".to_string()],
             Err(_) => continue,
         };
         let file = dir.join(format!("seed{seed}.pl"));
         std::fs::write(&file, &text).expect("a scratch file");
-        let goal = format!(
-            "consult('{}'), consult('{}'), call_with_time_limit(20, run(prob, {DEPTH})), halt",
-            file.display(),
-            support.display()
-        );
-        let output = std::process::Command::new("swipl")
-            .args(["-q", "-g", &goal, "-t", "halt(1)"])
-            .stdin(std::process::Stdio::null())
-            .output()
-            .expect("swipl runs");
-        if !output.status.success() {
-            failures.push(format!("seed {seed}: swipl failed: {}", String::from_utf8_lossy(&output.stderr)));
+        let goal = format!("consult('{}'), consult('{}'), run(prob, {DEPTH}), halt", file.display(), support.display());
+        let Some(stdout) = swipl(&goal, Duration::from_secs(30)) else {
+            failures.push(format!("seed {seed}: swipl failed or took more than 30 s"));
             continue;
-        }
-        let theirs: Vec<String> = String::from_utf8_lossy(&output.stdout).lines().map(str::to_string).collect();
+        };
+        let theirs: Vec<String> = stdout.lines().map(str::to_string).collect();
         compared += 1;
         with_plan += usize::from(ours != ["no plan"]);
         if ours != theirs {
@@ -1024,5 +1040,10 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
     let _ = std::fs::remove_dir_all(&dir);
     eprintln!("compared {compared} KBs, {with_plan} with a plan");
     assert!(with_plan * 10 > compared, "too few plans to compare: {with_plan} of {compared}");
-    assert!(failures.is_empty(), "{} differ:\n\n{}", failures.len(), failures.iter().take(4).cloned().collect::<Vec<_>>().join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n\n{}",
+        failures.len(),
+        failures.iter().take(4).cloned().collect::<Vec<_>>().join("\n\n")
+    );
 }

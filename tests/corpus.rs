@@ -1,0 +1,165 @@
+//! A corpus of KBs in other people's styles (tests/corpus/): split domains, test wrappers,
+//! the two-level spelling, non-blocks domains, and the slips language models make. Each case
+//! (a file, or a folder whose files load together) states in `% expect:` lines what kbc must
+//! do with it, and this test checks every line:
+//!
+//! - `plan NAME [length N]`: problem NAME plans (heuristic search), N snap actions if given,
+//!   and `kbc validate` accepts the plan as `kbc plan` prints it;
+//! - `warn CODE`: checking the KB reports warning CODE;
+//! - `note`: checking reports at least one note and no error;
+//! - `refuse CODE`: checking or planning fails with error CODE.
+
+mod common;
+
+use std::path::PathBuf;
+
+use kbc::cli::FsLoader;
+use kbc::diag::{Diagnostics, Severity};
+use kbc::driver;
+use kbc::planner::{self, Failure, Options, Silent};
+use kbc::source::SourceDb;
+use kbc::validate;
+
+fn cases() -> Vec<(String, Vec<PathBuf>)> {
+    let mut cases = Vec::new();
+    for entry in std::fs::read_dir("tests/corpus").expect("tests/corpus exists") {
+        let path = entry.expect("readable entry").path();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        if path.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(&path)
+                .expect("readable folder")
+                .map(|e| e.expect("readable entry").path())
+                .filter(|p| p.extension().is_some_and(|e| e == "pl"))
+                .collect();
+            files.sort();
+            cases.push((name, files));
+        } else if path.extension().is_some_and(|e| e == "pl") {
+            cases.push((name, vec![path]));
+        }
+    }
+    cases.sort();
+    cases
+}
+
+fn expectations(files: &[PathBuf]) -> Vec<Vec<String>> {
+    files
+        .iter()
+        .flat_map(|f| {
+            std::fs::read_to_string(f).expect("readable case").lines().map(str::to_string).collect::<Vec<_>>()
+        })
+        .filter_map(|l| l.strip_prefix("% expect: ").map(|e| e.split_whitespace().map(str::to_string).collect()))
+        .collect()
+}
+
+fn codes(diagnostics: &Diagnostics, severity: Severity) -> Vec<String> {
+    diagnostics.iter().filter(|d| d.severity == severity).filter_map(|d| d.code.map(|c| c.to_string())).collect()
+}
+
+/// Checks one case; the list of what did not hold.
+fn check(files: &[PathBuf]) -> Vec<String> {
+    let mut db = SourceDb::new();
+    let roots: Vec<_> = files
+        .iter()
+        .map(|p: &PathBuf| {
+            let text = std::fs::read_to_string(p).expect("readable file");
+            db.add(p.display().to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
+        })
+        .collect();
+    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
+    let errors = codes(&frontend.diagnostics, Severity::Error);
+    let warnings = codes(&frontend.diagnostics, Severity::Warning);
+    let mut wrong = Vec::new();
+    let expected = expectations(files);
+    if expected.is_empty() {
+        wrong.push("no `% expect:` line".to_string());
+    }
+    for line in expected {
+        match line.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
+            ["warn", code] => {
+                if !warnings.iter().any(|w| w == code) {
+                    wrong.push(format!("expected warning {code}, got {warnings:?}"));
+                }
+            }
+            ["note"] => {
+                if !frontend.diagnostics.iter().any(|d| d.severity == Severity::Note) || !errors.is_empty() {
+                    wrong.push(format!("expected a note and no error, got errors {errors:?}"));
+                }
+            }
+            ["refuse", code] => {
+                let mut found = errors.clone();
+                if errors.is_empty() {
+                    for problem in 0..frontend.kb.problems.len() {
+                        let mut task = kbc::passes::task::build(&frontend.kb, problem);
+                        let outcome = planner::search(
+                            &frontend.kb,
+                            &frontend.interner,
+                            &mut task,
+                            &Options::default(),
+                            &mut Silent,
+                        );
+                        if let Err(Failure::Unsolvable(d)) = outcome.result {
+                            found.extend(d.code.map(|c| c.to_string()));
+                        }
+                    }
+                }
+                if !found.iter().any(|c| c == code) {
+                    wrong.push(format!("expected error {code}, got {found:?}"));
+                }
+            }
+            ["plan", name, rest @ ..] => {
+                if !errors.is_empty() {
+                    wrong.push(format!("expected a plan for {name}, but the KB is refused: {errors:?}"));
+                    continue;
+                }
+                let Ok(problem) = driver::select_problem(&frontend.kb, &frontend.interner, Some(name)) else {
+                    wrong.push(format!("no problem {name}"));
+                    continue;
+                };
+                let mut task = kbc::passes::task::build(&frontend.kb, problem);
+                let outcome =
+                    planner::search(&frontend.kb, &frontend.interner, &mut task, &Options::default(), &mut Silent);
+                let plan = match outcome.result {
+                    Ok(plan) => plan,
+                    Err(failure) => {
+                        wrong.push(format!("no plan for {name}: {failure:?}"));
+                        continue;
+                    }
+                };
+                if let ["length", n] = rest
+                    && plan.steps.len().to_string() != *n
+                {
+                    wrong.push(format!("{name}: expected {n} steps, got {}", plan.steps.len()));
+                }
+                let printed = kbc::ir::plan::print(&frontend.interner, &frontend.kb, &plan);
+                let mut interner = frontend.interner.clone();
+                let mut plan_db = SourceDb::new();
+                let file = plan_db.add("plan.txt", None, printed.clone());
+                let mut diags = Diagnostics::new();
+                let steps = validate::read_plan(file, &printed, &mut interner, &mut diags);
+                let program = planner::program_for(&frontend.kb, problem);
+                let verdict = validate::validate(&frontend.kb, &interner, &program, problem, &steps);
+                if diags.has_errors() || verdict.diagnostics.has_errors() {
+                    wrong.push(format!(
+                        "{name}: kbc validate rejects\n{printed}{:?}",
+                        common::messages(&verdict.diagnostics)
+                    ));
+                }
+            }
+            other => wrong.push(format!("unknown expectation {other:?}")),
+        }
+    }
+    wrong
+}
+
+#[test]
+fn every_corpus_kb_does_what_it_states() {
+    let cases = cases();
+    assert!(cases.len() >= 6, "the corpus has {} cases", cases.len());
+    let mut failures = Vec::new();
+    for (name, files) in &cases {
+        for problem in check(files) {
+            failures.push(format!("{name}: {problem}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
