@@ -121,6 +121,9 @@ pub fn search(
 ) -> Outcome {
     let mut stats = Stats::default();
     let mut relaxation = Relaxation::new(task);
+    // Grounding gets the search's deadline and half its memory: beyond them the heuristic
+    // stays lifted, and the search itself then meets the budget with a diagnostic.
+    relaxation.limit_grounding(budget.deadline, budget.max_bytes / 2);
     {
         let (machine, cache) = successors.parts();
         if let Err(error) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {

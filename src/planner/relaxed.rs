@@ -186,6 +186,10 @@ pub struct Relaxation {
     dropped: FxHashMap<PredId, Box<[bool]>>,
     /// The ground task's landmarks, found when it is built.
     landmarks: Option<Landmarks>,
+    /// When grounding must give up (the search's deadline), and the most bytes its recorded
+    /// instantiations may take: beyond either, evaluation stays lifted.
+    grounding_deadline: Option<std::time::Instant>,
+    grounding_max_bytes: usize,
 }
 
 /// An Invalid literal instance: rule, literal, and the values of the literal's variables.
@@ -201,6 +205,10 @@ struct Recorder {
     instance_list: Vec<InstanceKey>,
     /// The most instantiations to record before giving up on grounding.
     limit: usize,
+    /// When to give up, and the most bytes to record (an estimate).
+    deadline: Option<std::time::Instant>,
+    max_bytes: usize,
+    bytes: usize,
     overflowed: bool,
 }
 
@@ -276,6 +284,8 @@ impl Relaxation {
             ground: None,
             negated_views: Vec::new(),
             landmarks: None,
+            grounding_deadline: None,
+            grounding_max_bytes: usize::MAX,
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
@@ -543,6 +553,9 @@ impl Relaxation {
             instances: FxHashMap::default(),
             instance_list: Vec::new(),
             limit,
+            deadline: self.grounding_deadline,
+            max_bytes: self.grounding_max_bytes,
+            bytes: 0,
             overflowed: false,
         });
         let init = task.init.clone();
@@ -609,6 +622,14 @@ impl Relaxation {
         self.landmarks = Some(Landmarks::compute(&mut ground, &start));
         self.ground = Some(ground);
         Ok(true)
+    }
+
+    /// Bounds [`Relaxation::ground`] by the search's budget: it gives up at `deadline`, or once
+    /// its recorded instantiations would take more than `max_bytes`, and evaluation stays
+    /// lifted (slower per state, but within memory).
+    pub fn limit_grounding(&mut self, deadline: Option<std::time::Instant>, max_bytes: usize) {
+        self.grounding_deadline = deadline;
+        self.grounding_max_bytes = max_bytes;
     }
 
     /// The number of ground actions, when grounded.
@@ -970,7 +991,10 @@ impl Relaxation {
         if recorder.overflowed || !recorder.seen.insert((rule as u32, bindings.into())) {
             return;
         }
-        if recorder.actions.len() >= recorder.limit {
+        if recorder.actions.len() >= recorder.limit
+            || recorder.bytes > recorder.max_bytes
+            || (recorder.actions.len() % 1024 == 0 && recorder.deadline.is_some_and(|d| std::time::Instant::now() > d))
+        {
             recorder.overflowed = true;
             return;
         }
@@ -1026,6 +1050,8 @@ impl Relaxation {
             });
             invalid.push(id);
         }
+        recorder.bytes +=
+            96 + 8 * (bindings.len() + pre.len() + add.len() + deletes.len()) + 4 * invalid.len() + 8 * bindings.len();
         recorder.actions.push(RecordedAction {
             rule: rule as u32,
             bindings: bindings.into(),
