@@ -361,6 +361,9 @@ pub struct HeadSite {
 /// A resolved knowledge base.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Kb {
+    /// Predicates (name, arity) of the arm-level states (`ll_init/1`, `ll_goal/1`): read, not
+    /// planned, but state facts for the name checks of arm-level actions.
+    pub arm_level_state_preds: Vec<(Symbol, usize)>,
     /// The static program: facts and rules, in clause order.
     pub clauses: Vec<Clause>,
     /// Action schemas of both levels, in clause order.

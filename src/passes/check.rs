@@ -76,7 +76,12 @@ impl Vocabulary {
                 .collect(),
             goal_facts: kb.problems.iter().flat_map(|p| p.goal.iter().map(key)).collect(),
             produced: BTreeSet::new(),
-            init: kb.problems.iter().flat_map(|p| p.init.iter().map(key)).collect(),
+            init: kb
+                .problems
+                .iter()
+                .flat_map(|p| p.init.iter().map(key))
+                .chain(kb.arm_level_state_preds.iter().copied())
+                .collect(),
             used_by_actions: BTreeSet::new(),
             recovered: kb.recovered_names.iter().copied().collect(),
         };

@@ -445,6 +445,15 @@ impl Lowerer<'_> {
             (sym::HL_INIT, 1) => self.state_fact(sym::INIT_STATE, term, span),
             (sym::HL_GOAL, 1) => self.state_fact(sym::GOAL_STATE, term, span),
             (sym::LL_INIT | sym::LL_GOAL, 1) => {
+                if let TermKind::List(list) = &term.args()[0].kind {
+                    for item in &list.items {
+                        if let Some(key) = item.callable()
+                            && !self.kb.arm_level_state_preds.contains(&key)
+                        {
+                            self.kb.arm_level_state_preds.push(key);
+                        }
+                    }
+                }
                 let shown = self.interner.resolve(name).to_string();
                 self.diags.push(
                     Diagnostic::note(format!("`{shown}/1` (the arm-level state) is not used yet"))
