@@ -79,6 +79,26 @@ pub fn is_test(name: Symbol, arity: usize) -> bool {
         )
 }
 
+/// SWI-Prolog's debugger, as KBs for the paper's planner switch it on (`:- trace(action, all).`,
+/// `leash(-all), trace`): nothing to do with planning, so kbc ignores it with a note.
+pub const DEBUGGER: &[(&str, usize)] = &[
+    ("leash", 1),
+    ("trace", 0),
+    ("trace", 1),
+    ("trace", 2),
+    ("notrace", 0),
+    ("spy", 1),
+    ("nospy", 1),
+    ("debug", 0),
+    ("nodebug", 0),
+    ("visible", 1),
+];
+
+/// True if `name/arity` is one of the [`DEBUGGER`] predicates.
+pub fn is_debugger(name: &str, arity: usize) -> bool {
+    DEBUGGER.contains(&(name, arity))
+}
+
 /// Common SWI-Prolog library predicates that kbc does not provide; named in diagnostics so the
 /// user learns it is a deliberate gap rather than a typo.
 pub const NOT_PROVIDED: &[&str] = &[

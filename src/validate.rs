@@ -54,30 +54,12 @@ impl PlanStep {
     pub fn of_plan(kb: &Kb, plan: &Plan, span: Span) -> Vec<PlanStep> {
         plan.steps
             .iter()
-            .map(|step| PlanStep { with: hidden_bindings(kb, step), ..PlanStep::named(step.name.clone(), span) })
+            .map(|step| PlanStep {
+                with: crate::ir::plan::hidden_bindings(kb, step),
+                ..PlanStep::named(step.name.clone(), span)
+            })
             .collect()
     }
-}
-
-/// The variables of a step's schema that its name leaves out but an effect uses, with their
-/// values: what a plan file must say for the step to mean one state change.
-pub fn hidden_bindings(kb: &Kb, step: &Step) -> Vec<(Symbol, Term)> {
-    let action = &kb.actions[step.action];
-    let mut in_name = Vec::new();
-    action.name.term.for_each_var(&mut |v| in_name.push(v));
-    let mut out: Vec<(Symbol, Term)> = Vec::new();
-    for effect in &action.effects {
-        effect.literal.term.for_each_var(&mut |v| {
-            let name = action.vars.get(v).name;
-            if !in_name.contains(&v)
-                && !out.iter().any(|(n, _)| *n == name)
-                && let Some(Some(value)) = step.bindings.get(v.0 as usize)
-            {
-                out.push((name, value.clone()));
-            }
-        });
-    }
-    out
 }
 
 /// A time as PDDL plans write it (`12`, `1.5`, `0.001`), in thousandths; `None` if it is not

@@ -728,11 +728,6 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
     let context = |what: String| format!("seed {seed}: {what}\n{text}");
     if frontend.diagnostics.has_errors() {
         counts.refused += 1;
-        if std::env::var("KBC_REFERENCE_DEBUG").is_ok() {
-            for d in frontend.diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error) {
-                eprintln!("REFUSED {:?} {}", d.code, d.message);
-            }
-        }
         if let Reference::Plan(plan) = &reference {
             let messages = common::messages(&frontend.diagnostics);
             return Err(context(format!("kbc refuses a KB the reference plans ({plan:?}): {messages:?}")));
@@ -759,9 +754,6 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
     match &reference {
         Reference::Plan(plan) => {
             counts.solvable += 1;
-            if std::env::var("KBC_REFERENCE_DEBUG").is_ok() && end_takes_start(&kb) {
-                eprintln!("ENDSTART seed {seed} plan {plan:?}\n{text}");
-            }
             let text: String = plan.iter().map(|n| format!("{n}\n")).collect();
             validate_text(text, plan).map_err(&context)?;
         }

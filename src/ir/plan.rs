@@ -5,7 +5,7 @@
 
 use std::fmt::Write;
 
-use crate::intern::Interner;
+use crate::intern::{Interner, Symbol};
 use crate::ir::hir::{self, Kb, Term, VarTable};
 
 /// One step of a plan.
@@ -38,7 +38,7 @@ pub fn print(interner: &Interner, kb: &Kb, plan: &Plan) -> String {
     let no_vars = VarTable::default();
     for (i, step) in plan.steps.iter().enumerate() {
         let _ = write!(out, "{:>width$}  {}", i + 1, hir::term_to_string(interner, &step.name, &no_vars));
-        let hidden = crate::validate::hidden_bindings(kb, step);
+        let hidden = hidden_bindings(kb, step);
         if !hidden.is_empty() {
             let shown: Vec<String> = hidden
                 .iter()
@@ -49,6 +49,27 @@ pub fn print(interner: &Interner, kb: &Kb, plan: &Plan) -> String {
             let _ = write!(out, "  % with {}", shown.join(", "));
         }
         out.push('\n');
+    }
+    out
+}
+
+/// The variables of a step's schema that its name leaves out but an effect uses, with their
+/// values: what a plan file must say for the step to mean one state change.
+pub fn hidden_bindings(kb: &Kb, step: &Step) -> Vec<(Symbol, Term)> {
+    let action = &kb.actions[step.action];
+    let mut in_name = Vec::new();
+    action.name.term.for_each_var(&mut |v| in_name.push(v));
+    let mut out: Vec<(Symbol, Term)> = Vec::new();
+    for effect in &action.effects {
+        effect.literal.term.for_each_var(&mut |v| {
+            let name = action.vars.get(v).name;
+            if !in_name.contains(&v)
+                && !out.iter().any(|(n, _)| *n == name)
+                && let Some(Some(value)) = step.bindings.get(v.0 as usize)
+            {
+                out.push((name, value.clone()));
+            }
+        });
     }
     out
 }

@@ -145,14 +145,18 @@ impl std::fmt::Debug for Facts {
 impl Facts {
     /// The id of predicate `name/arity`, interning it if new.
     pub fn pred(&mut self, name: Symbol, arity: usize) -> PredId {
-        let key = (name, arity as u32);
-        if let Some(&id) = self.pred_map.get(&key) {
-            return id;
-        }
-        let id = PredId(self.preds.len() as u32);
-        self.preds.push(key);
-        self.pred_map.insert(key, id);
-        id
+        Facts::intern_pred(&mut self.preds, &mut self.pred_map, (name, arity as u32))
+    }
+
+    fn intern_pred(
+        preds: &mut Vec<(Symbol, u32)>,
+        map: &mut rustc_hash::FxHashMap<(Symbol, u32), PredId>,
+        key: (Symbol, u32),
+    ) -> PredId {
+        *map.entry(key).or_insert_with(|| {
+            preds.push(key);
+            PredId(preds.len() as u32 - 1)
+        })
     }
 
     /// The predicate that says "durative action `base` is running with these arguments",
@@ -161,14 +165,7 @@ impl Facts {
     /// relaxation reads it, so that a start adds `base(Args)` and an end needs it, which is
     /// how an end's head takes the values of the start it closes.
     pub fn running_pred(&mut self, base: Symbol, arity: usize) -> PredId {
-        let key = (base, arity as u32);
-        if let Some(&id) = self.running_map.get(&key) {
-            return id;
-        }
-        let id = PredId(self.preds.len() as u32);
-        self.preds.push(key);
-        self.running_map.insert(key, id);
-        id
+        Facts::intern_pred(&mut self.preds, &mut self.running_map, (base, arity as u32))
     }
 
     /// True for a running-action predicate (see [`Facts::running_pred`]).
@@ -284,6 +281,17 @@ pub enum Pattern {
     Compound(Symbol, Box<[Pattern]>),
 }
 
+impl Pattern {
+    /// Appends the pattern's variables, in order, repeats included.
+    pub fn vars(&self, out: &mut Vec<u32>) {
+        match self {
+            Pattern::Const(_) => {}
+            Pattern::Var(v) => out.push(*v),
+            Pattern::Compound(_, args) => args.iter().for_each(|a| a.vars(out)),
+        }
+    }
+}
+
 /// A literal: a predicate applied to patterns.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LiteralPattern {
@@ -333,6 +341,33 @@ pub struct Schema {
     /// bind their whole name themselves. (The search matches ends against
     /// [`State::running`] in every case.)
     pub running: Option<LiteralPattern>,
+}
+
+impl Schema {
+    /// The variables bound by the time effects apply: by the name, the Valid literals and
+    /// the OnKB goals (an end's name by its running start).
+    pub fn bound_vars(&self) -> Vec<u32> {
+        let mut bound = Vec::new();
+        self.name.vars(&mut bound);
+        self.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut bound)));
+        for goal in self.on_kb.iter() {
+            goal.for_each_call(&mut |l| l.term.for_each_var(&mut |v| bound.push(v.0)));
+        }
+        bound
+    }
+
+    /// The indices of the effects with a variable [`Schema::bound_vars`] leaves unbound: an
+    /// open `add` never applies (W0010), an open `del` removes every fact that unifies (W0009).
+    pub fn open_effects(&self) -> Vec<usize> {
+        let bound = self.bound_vars();
+        (0..self.effects.len())
+            .filter(|&e| {
+                let mut own = Vec::new();
+                self.effects[e].1.args.iter().for_each(|a| a.vars(&mut own));
+                own.iter().any(|v| !bound.contains(v))
+            })
+            .collect()
+    }
 }
 
 /// A state: facts (sorted by predicate, then fact id) and running durative actions.

@@ -403,25 +403,9 @@ impl Checker<'_> {
     /// Their bodies call nothing but problems, other such rules, and SWI-Prolog's debugger and
     /// output predicates, none of which planning uses.
     fn test_wrappers(&self) -> BTreeSet<usize> {
-        const DEBUGGER: &[(&str, usize)] = &[
-            ("leash", 1),
-            ("trace", 0),
-            ("trace", 1),
-            ("trace", 2),
-            ("notrace", 0),
-            ("spy", 1),
-            ("nospy", 1),
-            ("debug", 0),
-            ("nodebug", 0),
-            ("visible", 1),
-            ("write", 1),
-            ("writeln", 1),
-            ("print", 1),
-            ("nl", 0),
-            ("format", 1),
-            ("format", 2),
-            ("time", 1),
-        ];
+        // Output a wrapper may print around a test, besides the debugger.
+        const OUTPUT: &[(&str, usize)] =
+            &[("write", 1), ("writeln", 1), ("print", 1), ("nl", 0), ("format", 1), ("format", 2), ("time", 1)];
         let problems: BTreeSet<Key> = self
             .kb
             .problems
@@ -449,7 +433,9 @@ impl Checker<'_> {
                     let key = (l.name(), l.arity());
                     if names.contains(&key) {
                         calls_a_test = true;
-                    } else if !DEBUGGER.contains(&(self.name(key.0), key.1)) {
+                    } else if !builtins::is_debugger(self.name(key.0), key.1)
+                        && !OUTPUT.contains(&(self.name(key.0), key.1))
+                    {
                         only_tests = false;
                     }
                 });
@@ -792,22 +778,23 @@ impl Checker<'_> {
 
     fn effect_variables(&mut self) {
         for action in &self.kb.actions {
+            // The variables the Valid and OnKB lists bind.
+            let mut conditions: BTreeSet<VarId> = BTreeSet::new();
+            for l in &action.valid {
+                l.term.for_each_var(&mut |v| {
+                    conditions.insert(v);
+                });
+            }
+            for g in &action.on_kb {
+                g.for_each_call(&mut |l| {
+                    l.term.for_each_var(&mut |v| {
+                        conditions.insert(v);
+                    })
+                });
+            }
             // A start's or an instant's name must be ground when it applies (an end's name
             // takes its start's values; an arm-level action's, its mapping's).
             if action.snap != Snap::End && action.level == Level::High {
-                let mut conditions: BTreeSet<VarId> = BTreeSet::new();
-                for l in &action.valid {
-                    l.term.for_each_var(&mut |v| {
-                        conditions.insert(v);
-                    });
-                }
-                for g in &action.on_kb {
-                    g.for_each_call(&mut |l| {
-                        l.term.for_each_var(&mut |v| {
-                            conditions.insert(v);
-                        })
-                    });
-                }
                 let mut free: Vec<VarId> = Vec::new();
                 action.name.term.for_each_var(&mut |v| {
                     if !conditions.contains(&v) && !free.contains(&v) {
@@ -826,22 +813,11 @@ impl Checker<'_> {
                     );
                 }
             }
-            let mut bound: BTreeSet<VarId> = BTreeSet::new();
+            // Effects may also use the name's variables.
+            let mut bound = conditions;
             action.name.term.for_each_var(&mut |v| {
                 bound.insert(v);
             });
-            for l in &action.valid {
-                l.term.for_each_var(&mut |v| {
-                    bound.insert(v);
-                });
-            }
-            for g in &action.on_kb {
-                g.for_each_call(&mut |l| {
-                    l.term.for_each_var(&mut |v| {
-                        bound.insert(v);
-                    })
-                });
-            }
             let mut reported: BTreeSet<VarId> = BTreeSet::new();
             for effect in &action.effects {
                 let mut free = Vec::new();

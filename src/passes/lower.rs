@@ -297,13 +297,8 @@ impl Lowerer<'_> {
                 if goal.args()[0]
                     .as_compound(sym::LIBRARY, 1)
                     .is_some_and(|l| l.args[0].kind == TermKind::Atom(sym::LISTS)) => {}
-            _ if matches!(
-                (self.interner.resolve(name), goal.args().len()),
-                ("trace" | "leash" | "spy" | "nospy" | "visible", _) | ("notrace" | "debug" | "nodebug", 0)
-            ) =>
-            {
-                // SWI-Prolog's debugger, as KBs for the paper's planner switch it on: nothing
-                // to do with planning, so a note rather than a warning.
+            _ if crate::builtins::is_debugger(self.interner.resolve(name), goal.args().len()) => {
+                // Nothing to do with planning, so a note rather than a warning.
                 let shown = self.show(goal);
                 self.diags.push(
                     Diagnostic::note(format!("debugger directive `{shown}` ignored"))

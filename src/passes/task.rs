@@ -75,10 +75,10 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         let Some(running) = &schema.running else { continue };
         let mut bound = Vec::new();
         for literal in schema.valid.iter() {
-            literal.args.iter().for_each(|a| pattern_vars(a, &mut bound));
+            literal.args.iter().for_each(|a| a.vars(&mut bound));
         }
         let mut own = Vec::new();
-        running.args.iter().for_each(|a| pattern_vars(a, &mut own));
+        running.args.iter().for_each(|a| a.vars(&mut own));
         if own.iter().any(|v| !bound.contains(v)) {
             needed.push((schema.base, running.args.len()));
         }
@@ -122,14 +122,6 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
             .collect(),
         goal_terms: problem_hir.goal.iter().map(|l| l.term.clone()).collect(),
         max_depth: problem_hir.max_depth,
-    }
-}
-
-fn pattern_vars(pattern: &Pattern, out: &mut Vec<u32>) {
-    match pattern {
-        Pattern::Const(_) => {}
-        Pattern::Var(v) => out.push(*v),
-        Pattern::Compound(_, args) => args.iter().for_each(|a| pattern_vars(a, out)),
     }
 }
 

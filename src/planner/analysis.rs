@@ -287,26 +287,6 @@ fn bind_head(task: &Task, head: &LiteralPattern, target: &[Term], bindings: &mut
     true
 }
 
-/// True if effect `e` of `schema` has a variable its name, Valid and OnKB lists do not bind.
-fn open_add(schema: &crate::ir::task::Schema, e: usize) -> bool {
-    fn vars(pattern: &Pattern, out: &mut Vec<u32>) {
-        match pattern {
-            Pattern::Const(_) => {}
-            Pattern::Var(v) => out.push(*v),
-            Pattern::Compound(_, args) => args.iter().for_each(|a| vars(a, out)),
-        }
-    }
-    let mut bound = Vec::new();
-    vars(&schema.name, &mut bound);
-    schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| vars(a, &mut bound)));
-    for goal in schema.on_kb.iter() {
-        goal.for_each_call(&mut |l| l.term.for_each_var(&mut |v| bound.push(v.0)));
-    }
-    let mut own = Vec::new();
-    schema.effects[e].1.args.iter().for_each(|a| vars(a, &mut own));
-    own.iter().any(|v| !bound.contains(v))
-}
-
 struct Explainer<'a, 'p> {
     /// Whether the explanation found an `add` with a variable nothing binds (then the
     /// diagnostic is E0213, naming the action).
@@ -373,7 +353,7 @@ impl Explainer<'_, '_> {
                 .nth(schema.effects[..e].iter().filter(|(k, _)| *k == EffectKind::Add).count())
                 .map(|ef| ef.span);
             if let Some(span) = effect_span
-                && open_add(&schema, e)
+                && schema.open_effects().contains(&e)
             {
                 self.notes.push(format!(
                     "`{action_name}` would add `{shown}`, but a variable of that effect is bound by nothing, so \

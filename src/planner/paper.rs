@@ -73,8 +73,9 @@ pub fn search(
             continue;
         };
         frame.next += 1;
-        let child = successors::apply(task, &frame.state, &action);
+        // The paper's lists, and the state they hold (for the goal test and the path).
         let child_order = successors::apply_to_order(task, &frame.order, &action);
+        let child = State::new(&task.facts, child_order.facts.iter().copied(), child_order.running.iter().copied());
         stats.generated += 1;
         if successors::goal_reached(task, &child) {
             path.push(action);

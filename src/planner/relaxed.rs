@@ -294,16 +294,8 @@ impl Relaxation {
         // and a relaxation that knows less stays sound.
         let mut open_deletes: Vec<PredId> = Vec::new();
         for schema in &task.schemas {
-            let mut bound = Vec::new();
-            var_occurrences(&schema.name, &mut bound);
-            schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| var_occurrences(a, &mut bound)));
-            for goal in schema.on_kb.iter() {
-                goal.for_each_call(&mut |l| term_vars(&l.term, &mut bound));
-            }
-            for (kind, literal) in schema.effects.iter() {
-                let mut own = Vec::new();
-                literal.args.iter().for_each(|a| var_occurrences(a, &mut own));
-                if *kind == EffectKind::Del && own.iter().any(|v| !bound.contains(v)) {
+            for e in schema.open_effects() {
+                if let (EffectKind::Del, literal) = &schema.effects[e] {
                     open_deletes.push(literal.pred);
                 }
             }

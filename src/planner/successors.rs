@@ -594,36 +594,38 @@ pub struct PaperOrder {
 /// the list put first (the newest addition first, as the paper's planner conses it), a deleted
 /// one taken out; a start's running action put first, an end's taken out.
 pub fn apply_to_order(task: &mut Task, order: &PaperOrder, action: &Applicable) -> PaperOrder {
-    let running = {
-        let mut running = order.running.clone();
-        let schema = &task.schemas[action.schema];
-        match schema.snap {
-            Snap::Start => {
-                let schema = schema.clone();
-                if let Some(instance) = running_instance(&schema, &mut task.consts, &action.bindings) {
-                    running.insert(0, instance);
-                }
-            }
-            Snap::End => {
-                if let Some(position) = action.ends.and_then(|e| running.iter().position(|r| *r == e)) {
-                    running.remove(position);
-                }
-            }
-            Snap::Instant => {}
-        }
-        running
-    };
     let Task { consts, facts, schemas, .. } = task;
     let schema = &schemas[action.schema];
     let mut list: Vec<FactId> = order.facts.clone();
+    apply_effects(consts, facts, schema, &action.bindings, &mut list, true);
+    let mut running = order.running.clone();
+    apply_running(consts, schema, action, &mut running, true);
+    PaperOrder { facts: list, running }
+}
+
+/// Applies `schema`'s effects under `bindings` to the facts `list`, in list order: an added
+/// fact not yet there is put last, or first with `newest_first` (the paper's list); a deleted
+/// one is taken out, and a deletion with an unbound variable takes out every fact that
+/// unifies with it (as SWI-Prolog's delete/3).
+fn apply_effects(
+    consts: &mut Consts,
+    facts: &mut Facts,
+    schema: &Schema,
+    bindings: &[Option<ConstId>],
+    list: &mut Vec<FactId>,
+    newest_first: bool,
+) {
     for (kind, literal) in schema.effects.iter() {
-        let args: Option<Vec<ConstId>> =
-            literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
+        let args: Option<Vec<ConstId>> = literal.args.iter().map(|a| instantiate(a, consts, bindings)).collect();
         match (kind, args) {
             (EffectKind::Add, Some(args)) => {
                 let fact = facts.intern(literal.pred, &args);
                 if !list.contains(&fact) {
-                    list.insert(0, fact);
+                    if newest_first {
+                        list.insert(0, fact);
+                    } else {
+                        list.push(fact);
+                    }
                 }
             }
             (EffectKind::Add, None) => {}
@@ -632,7 +634,7 @@ pub fn apply_to_order(task: &mut Task, order: &PaperOrder, action: &Applicable) 
                 list.retain(|f| *f != fact);
             }
             (EffectKind::Del, None) => {
-                let mut scratch = action.bindings.to_vec();
+                let mut scratch = bindings.to_vec();
                 let mut trail = Vec::new();
                 list.retain(|&f| {
                     let unifies = facts.pred_of(f) == literal.pred
@@ -643,7 +645,6 @@ pub fn apply_to_order(task: &mut Task, order: &PaperOrder, action: &Applicable) 
             }
         }
     }
-    PaperOrder { facts: list, running }
 }
 
 /// The state after applying `action` to `state`: effects in list order, then the running
@@ -652,50 +653,38 @@ pub fn apply(task: &mut Task, state: &State, action: &Applicable) -> State {
     let Task { consts, facts, schemas, .. } = task;
     let schema = &schemas[action.schema];
     let mut current: Vec<FactId> = state.facts().collect();
-    for (kind, literal) in schema.effects.iter() {
-        let args: Option<Vec<ConstId>> =
-            literal.args.iter().map(|a| instantiate(a, consts, &action.bindings)).collect();
-        let Some(args) = args else {
-            if *kind == EffectKind::Del {
-                // Unbound variables: every fact that unifies goes (as SWI-Prolog's delete/3).
-                let mut scratch = action.bindings.to_vec();
-                let mut trail = Vec::new();
-                current.retain(|&f| {
-                    let unifies = facts.pred_of(f) == literal.pred
-                        && match_literal(literal, f, consts, facts, &mut scratch, &mut trail);
-                    undo(&mut scratch, &mut trail, 0);
-                    !unifies
-                });
-            }
-            continue;
-        };
-        let fact = facts.intern(literal.pred, &args);
-        match kind {
-            EffectKind::Add => {
-                if !current.contains(&fact) {
-                    current.push(fact);
-                }
-            }
-            EffectKind::Del => current.retain(|f| *f != fact),
-        }
-    }
+    apply_effects(consts, facts, schema, &action.bindings, &mut current, false);
     let mut running: Vec<ConstId> = state.running.to_vec();
+    apply_running(consts, schema, action, &mut running, false);
+    State::new(facts, current, running)
+}
+
+/// Updates the running actions for `action`: a start adds its `base(args)` (last, or first
+/// with `newest_first`), an end removes the start it closes.
+fn apply_running(
+    consts: &mut Consts,
+    schema: &Schema,
+    action: &Applicable,
+    running: &mut Vec<ConstId>,
+    newest_first: bool,
+) {
     match schema.snap {
         Snap::Start => {
             if let Some(instance) = running_instance(schema, consts, &action.bindings) {
-                running.push(instance);
+                if newest_first {
+                    running.insert(0, instance);
+                } else {
+                    running.push(instance);
+                }
             }
         }
         Snap::End => {
-            if let Some(ended) = action.ends
-                && let Some(position) = running.iter().position(|r| *r == ended)
-            {
+            if let Some(position) = action.ends.and_then(|e| running.iter().position(|r| *r == e)) {
                 running.remove(position);
             }
         }
         Snap::Instant => {}
     }
-    State::new(facts, current, running)
 }
 
 /// True if every goal literal matches a fact of `state` (with the goal's variables shared

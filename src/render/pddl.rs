@@ -283,21 +283,11 @@ impl Exporter<'_> {
             }
             // A deletion with a variable nothing binds removes every fact that unifies; a PDDL
             // 2.1 effect deletes one atom.
-            let mut bound = BTreeSet::new();
-            pattern_vars(&schema.name, &mut bound);
-            schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| pattern_vars(a, &mut bound)));
-            for goal in schema.on_kb.iter() {
-                goal.for_each_call(&mut |l| {
-                    l.term.for_each_var(&mut |v| {
-                        bound.insert(v.0);
-                    })
-                });
-            }
-            let open = schema.effects.iter().find(|(kind, l)| {
-                let mut own = BTreeSet::new();
-                l.args.iter().for_each(|a| pattern_vars(a, &mut own));
-                *kind == EffectKind::Del && !own.is_subset(&bound)
-            });
+            let open = schema
+                .open_effects()
+                .into_iter()
+                .map(|e| &schema.effects[e])
+                .find(|(kind, _)| *kind == EffectKind::Del);
             if let Some((_, literal)) = open {
                 ok = false;
                 self.error(
