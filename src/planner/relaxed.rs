@@ -1042,8 +1042,17 @@ impl Relaxation {
             });
             invalid.push(id);
         }
-        recorder.bytes +=
-            96 + 8 * (bindings.len() + pre.len() + add.len() + deletes.len()) + 4 * invalid.len() + 8 * bindings.len();
+        // What the instantiation holds: the action (its vector may have grown to twice its
+        // length), its bindings twice (here and as a key of `seen`, with the set's slot), and
+        // five buffers, each with the allocator's overhead.
+        const ALLOC: usize = 16;
+        let binding_bytes = std::mem::size_of_val(bindings) + ALLOC;
+        recorder.bytes += 2 * std::mem::size_of::<RecordedAction>()
+            + 2 * binding_bytes
+            + 32
+            + 4 * ALLOC
+            + 8 * (pre.len() + add.len() + deletes.len())
+            + 4 * invalid.len();
         recorder.actions.push(RecordedAction {
             rule: rule as u32,
             bindings: bindings.into(),
