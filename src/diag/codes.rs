@@ -164,6 +164,7 @@ codes! {
     OPEN_ADD = "W0010": "an `add` with a variable nothing binds";
     UNPAIRED_ARITIES = "W0011": "a `_start` and an `_end` with different arities, planned as unrelated actions";
     MISSPELT_DECLARATION = "W0012": "a fact named like a kbc declaration";
+    UNUSED_DURATION = "W0013": "a duration that names no durative action";
 }
 
 #[cfg(test)]

@@ -154,9 +154,12 @@ impl<'a> Checker<'a> {
             let in_draft = diagnostic.labels.iter().any(|l| l.span.file == draft);
             if diagnostic.code.is_some() && (in_draft || diagnostic.labels.is_empty() && diagnostic.is_error()) {
                 let mut diagnostic = diagnostic.clone();
-                // A condition that never matches runs in Prolog, so `kbc check` only warns;
-                // in a draft it is a mistake the model must fix.
-                if matches!(diagnostic.code, Some(codes::NEVER_PRODUCED | codes::ARITY_NEVER_MATCHES)) {
+                // A condition that never matches, or a duration nothing reads, runs in Prolog,
+                // so `kbc check` only warns; in a draft it is a mistake the model must fix.
+                if matches!(
+                    diagnostic.code,
+                    Some(codes::NEVER_PRODUCED | codes::ARITY_NEVER_MATCHES | codes::UNUSED_DURATION)
+                ) {
                     diagnostic.severity = crate::diag::Severity::Error;
                 }
                 diagnostics.push(diagnostic);

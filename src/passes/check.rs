@@ -902,14 +902,29 @@ impl Checker<'_> {
                 }
                 continue;
             }
+            // Prolog loads the fact and nothing reads it: a warning, since the durations it
+            // was meant to give are lost (the action gets the default).
             let indicator = self.indicator(key);
-            let mut diagnostic =
-                Diagnostic::error(codes::BAD_DURATION, format!("duration for unknown durative action `{indicator}`"))
-                    .primary(
-                        clause.head.span,
-                        format!("no `{0}_start` and `{0}_end` with {1}", self.name(key.0), plural(key.1, "argument")),
-                    );
-            if instant.contains(&key) {
+            let mut diagnostic = Diagnostic::warning(
+                codes::UNUSED_DURATION,
+                format!("duration for unknown durative action `{indicator}`"),
+            )
+            .primary(
+                clause.head.span,
+                format!("no `{0}_start` and `{0}_end` with {1}", self.name(key.0), plural(key.1, "argument")),
+            );
+            let base = self.name(key.0);
+            let unpaired = self.kb.actions.iter().any(|a| {
+                let name = self.name(a.name.name());
+                a.snap == Snap::Instant
+                    && a.name.arity() == key.1
+                    && (name.strip_suffix("_start") == Some(base) || name.strip_suffix("_end") == Some(base))
+            });
+            if unpaired {
+                diagnostic = diagnostic.with_note(format!(
+                    "`{base}_start` and `{base}_end` take different numbers of arguments, so they are not one durative action (W0011)"
+                ));
+            } else if instant.contains(&key) {
                 diagnostic =
                     diagnostic.with_note(format!("`{indicator}` is instantaneous: it has no `_start`/`_end` pair"));
             } else if let Some(found) = self.suggest(key, &durative) {

@@ -1,4 +1,4 @@
 action(push_start(A), [available(A)], [], [], [], [del(available(A)), add(pushing(A))]).
 action(push_end(A), [pushing(A)], [], [], [], [del(pushing(A)), add(available(A))]).
-duration(psuh(_), 1, 2).
+duration(3, 1, 2).
 duration(push(_), 1, long).
