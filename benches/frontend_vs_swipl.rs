@@ -20,9 +20,6 @@ mod generate;
 use std::process::Command;
 use std::time::Instant;
 
-use kbc::passes::load::NoIncludes;
-use kbc::source::SourceDb;
-
 const FACTS: usize = 100_000;
 const SCHEMAS: usize = 1_000;
 const RUNS: usize = 20;
@@ -38,16 +35,14 @@ fn main() {
     for _ in 0..RUNS {
         let started = Instant::now();
         let text = std::fs::read_to_string(&path).expect("readable");
-        let mut db = SourceDb::new();
-        let id = db.add("bench.pl", None, text);
-        let frontend = kbc::driver::frontend(&mut db, &[id], &mut NoIncludes);
+        let session = kbc::session::Session::from_text("bench.pl", text);
         let seconds = started.elapsed().as_secs_f64();
         assert!(
-            frontend.diagnostics.is_empty(),
+            session.diagnostics().is_empty(),
             "the benchmark KB must check clean: {:?}",
-            frontend.diagnostics.iter().next()
+            session.diagnostics().iter().next()
         );
-        assert_eq!(frontend.kb.actions.len(), SCHEMAS);
+        assert_eq!(session.kb().actions.len(), SCHEMAS);
         kbc_best = kbc_best.min(seconds);
     }
 

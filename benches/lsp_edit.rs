@@ -16,9 +16,7 @@ mod client;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use kbc::driver;
-use kbc::passes::load::NoIncludes;
-use kbc::source::SourceDb;
+use kbc::session::Session;
 use serde_json::json;
 
 const ACTIONS: usize = 200;
@@ -131,14 +129,12 @@ fn main() {
     let frontend: Vec<Duration> = (0..20)
         .map(|_| {
             let started = Instant::now();
-            let mut db = SourceDb::new();
-            let root = db.add("big.pl", None, text.clone());
-            let frontend = driver::frontend(&mut db, &[root], &mut NoIncludes);
-            assert!(!frontend.diagnostics.has_errors());
+            let session = Session::from_text("big.pl", text.clone());
+            assert!(!session.has_errors());
             started.elapsed()
         })
         .collect();
-    stats("front end alone (driver::frontend)", frontend);
+    stats("front end alone (Session::from_text)", frontend);
     stats("edit -> diagnostics, no debounce", session(&text, Some(0)));
     let default = kbc::lsp::DEFAULT_DEBOUNCE.as_millis();
     stats(&format!("edit -> diagnostics, default {default} ms debounce"), session(&text, None));

@@ -9,34 +9,19 @@
 
 use std::time::{Duration, Instant};
 
-use kbc::cli::FsLoader;
-use kbc::diag::Diagnostics;
-use kbc::driver;
 use kbc::execute::{self, Outcome};
 use kbc::ladder::{Family, Rung};
-use kbc::passes;
-use kbc::planner::{self, Budget, Options, SearchKind, Silent};
-use kbc::source::SourceDb;
+use kbc::planner::Silent;
+use kbc::session::{PlanSettings, Session};
 use kbvm::Program;
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 fn program(rung: &Rung) -> Program {
-    let mut db = SourceDb::new();
-    let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
-    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
-    assert!(!frontend.diagnostics.has_errors(), "{} checks clean", rung.name());
-    let mut task = passes::task::build(&frontend.kb, 0);
-    let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
-    let options = Options { search: SearchKind::Heuristic, max_depth: None, budget, plans: 1, improve: None };
-    let plan =
-        planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result.expect("a plan");
-    let kb_program = planner::program_for(&frontend.kb, 0);
-    let mut diags = Diagnostics::new();
-    let timed = driver::schedule(&frontend.kb, &frontend.interner, &kb_program, &plan, &mut diags).expect("schedules");
-    let (_, module) =
-        driver::build_bytecode(&frontend.kb, &frontend.interner, &db, &plan, &timed, Some(("sim", PRIMITIVES)))
-            .expect("builds");
-    Program::load(&module.encode()).expect("loads")
+    let mut session = Session::from_text(&format!("{}.pl", rung.name()), rung.source());
+    assert!(!session.has_errors(), "{} checks clean", rung.name());
+    let settings = PlanSettings { timeout: Some(Duration::from_secs(60)), reassign: false, ..PlanSettings::default() };
+    let planned = session.plan(0, &settings, &mut Silent).unwrap_or_else(|_| panic!("a plan for {}", rung.name()));
+    session.build(&planned, Some(("sim", PRIMITIVES))).expect("builds").program()
 }
 
 fn main() {

@@ -108,10 +108,10 @@ pub fn sim_world(program: &Program, config: SimConfig, cells: &[(i64, i64)]) -> 
 /// cells: the `cell/2` facts, or the paper's 5 x 5 grid), at most 10,000 of them; none when
 /// the KB has no `pos/2`. The simulated table covers them, and a recovery puts blocks down
 /// on them.
-pub fn kb_cells(frontend: &crate::driver::Frontend, problem: usize) -> Vec<(i64, i64)> {
+pub fn kb_cells(session: &mut crate::session::Session, problem: usize) -> Vec<(i64, i64)> {
     use crate::engine::{Cell, Machine, Next};
-    let Some(pos) = frontend.interner.get("pos") else { return Vec::new() };
-    let program = crate::planner::program_for(&frontend.kb, problem);
+    let Some(pos) = session.interner().get("pos") else { return Vec::new() };
+    let program = session.program(problem);
     let mut machine = Machine::new(&program, 1_000_000);
     let (x, y) = (machine.new_var(), machine.new_var());
     let goal = machine.new_compound(pos, &[x, y]);
@@ -287,18 +287,17 @@ pub fn timed_plan(program: &Program, run: &Run) -> String {
 /// The executed timeline of a run checked on the KB of `problem` by the timed validator; an
 /// error here is a compiler bug, and a note says so.
 pub fn check_timeline(
-    frontend: &mut crate::driver::Frontend,
-    db: &mut crate::source::SourceDb,
+    session: &mut crate::session::Session,
     problem: usize,
     program: &Program,
     run: &Run,
 ) -> crate::diag::Diagnostics {
     let mut diagnostics = crate::diag::Diagnostics::new();
     let text = timed_plan(program, run);
-    let file = db.add("<executed timeline>", None, text.clone());
-    let steps = crate::validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
-    let kb_program = crate::planner::program_for(&frontend.kb, problem);
-    let verdict = crate::validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
+    let file = session.add_text("<executed timeline>", text.clone());
+    let steps = crate::validate::read_plan(file, &text, session.interner_mut(), &mut diagnostics);
+    let kb_program = session.program(problem);
+    let verdict = crate::validate::validate_timed(session.kb(), session.interner(), &kb_program, problem, &steps);
     diagnostics.extend(verdict.diagnostics);
     if diagnostics.has_errors() {
         diagnostics.push(crate::diag::Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));

@@ -15,9 +15,8 @@
 
 use std::time::{Duration, Instant};
 
-use crate::driver;
-use crate::passes;
-use crate::planner::{self, Budget, Failure, Options, SearchKind, Silent};
+use crate::planner::{Budget, Failure, SearchKind, Silent};
+use crate::session::{PlanError, PlanSettings, Planned, Session};
 use crate::source::SourceDb;
 use crate::validate;
 use kbvm::sim::Rng;
@@ -182,15 +181,16 @@ pub struct Row {
     pub elapsed: Duration,
 }
 
-/// Plans `rung` with `search` under `budget` (`max_depth` for the paper's search), validates
-/// the plan with [`validate`], schedules it (`driver::schedule`) and validates the timed plan
-/// with [`validate::validate_timed`]. An invalid plan or schedule is a bug, reported in the
-/// row's result rather than hidden.
+/// Plans `rung` with `search` under `budget` (`max_depth` for the paper's search) in a
+/// session (which schedules the plan and, for the heuristic search, runs `reassign` on it),
+/// then validates the plan kept with [`validate`] and its schedule with
+/// [`validate::validate_timed`]. An invalid plan or schedule is a bug, reported in the row's
+/// result rather than hidden.
 pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u32>) -> Row {
     let started = Instant::now();
     let mut db = SourceDb::new();
     let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
-    let frontend = driver::frontend(&mut db, &[root], &mut passes::load::NoIncludes);
+    let mut session = Session::open(db, vec![root], &mut crate::passes::load::NoIncludes);
     let failed = |message: String, expanded: u64, elapsed: Duration| Row {
         rung: *rung,
         search,
@@ -199,75 +199,72 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
         expanded,
         elapsed,
     };
-    if frontend.diagnostics.has_errors() {
+    if session.has_errors() {
         return failed("the generated problem does not check".into(), 0, started.elapsed());
     }
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    let mut task = passes::task::build(kb, 0);
-    let options = Options { search, max_depth, budget, plans: 1, improve: None };
-    let outcome = planner::search(kb, interner, &mut task, &options, &mut Silent);
-    let stats = outcome.stats;
-    match outcome.result {
-        Ok(plan) => {
-            let length = plan.steps.len();
-            let result = check(kb, interner, &mut task, plan, search == SearchKind::Heuristic);
-            let makespan = result.as_ref().ok().copied();
-            Row {
-                rung: *rung,
-                search,
-                result: result.map(|_| length),
-                makespan,
-                expanded: stats.expanded,
-                elapsed: stats.elapsed,
-            }
-        }
-        Err(failure) => {
-            let why = match failure {
+    let settings = PlanSettings {
+        search,
+        max_depth,
+        max_states: budget.max_states,
+        timeout: budget.deadline.map(|d| d.saturating_duration_since(Instant::now())),
+        max_bytes: budget.max_bytes,
+        ..PlanSettings::default()
+    };
+    let planned = match session.plan(0, &settings, &mut Silent) {
+        Ok(planned) => planned,
+        Err(PlanError::Search(failed_search)) => {
+            let why = match &failed_search.failure {
                 Failure::Exhausted { depth_limit: Some(limit) } => format!("no plan within depth {limit}"),
                 Failure::Exhausted { depth_limit: None } => "no plan exists".to_string(),
                 Failure::Budget(kind) => format!("{kind:?} budget ran out").to_lowercase(),
                 Failure::Condition(error) => format!("OnKB error in schema {}", error.schema),
                 Failure::Unsolvable(diagnostic) => diagnostic.message.clone(),
             };
-            failed(why, stats.expanded, stats.elapsed)
+            return failed(why, failed_search.stats.expanded, failed_search.stats.elapsed);
         }
+        Err(PlanError::Unschedulable | PlanError::PlanFile) => {
+            let why = format!("no schedule: {}", first_error(session.diagnostics()));
+            let stats = session.search(0, &settings, &mut Silent).map(|s| s.stats).unwrap_or_default();
+            return failed(why, stats.expanded, stats.elapsed);
+        }
+    };
+    let stats = planned.stats.expect("searched");
+    let length = planned.plan().steps.len();
+    let result = check(&mut session, &planned);
+    Row {
+        rung: *rung,
+        search,
+        makespan: result.as_ref().ok().copied(),
+        result: result.map(|_| length),
+        expanded: stats.expanded,
+        elapsed: stats.elapsed,
     }
 }
 
-/// Schedules `plan` (after the `reassign` pass, with `reassign`), validates the plan kept with
-/// [`validate`] and its schedule with [`validate::validate_timed`]: the makespan and the
-/// sequential time, or what went wrong.
-fn check(
-    kb: &crate::ir::hir::Kb,
-    interner: &crate::intern::Interner,
-    task: &mut crate::ir::task::Task,
-    plan: crate::ir::plan::Plan,
-    reassign: bool,
-) -> Result<(i64, i64), String> {
-    let first_error = |diagnostics: &crate::diag::Diagnostics| {
-        diagnostics
-            .iter()
-            .find(|d| d.severity == crate::diag::Severity::Error)
-            .map_or(String::new(), |d| d.message.clone())
-    };
-    let program = planner::program_for(kb, plan.problem);
-    let mut diagnostics = crate::diag::Diagnostics::new();
-    let Some(timed) = driver::schedule(kb, interner, &program, &plan, &mut diagnostics) else {
-        return Err(format!("no schedule: {}", first_error(&diagnostics)));
-    };
-    let (plan, timed) =
-        if reassign { driver::reassign(kb, interner, &program, task, plan, timed) } else { (plan, timed) };
-    let span = kb.problems[plan.problem].span;
-    let steps = validate::PlanStep::of_plan(kb, &plan, span);
-    let verdict = validate::validate(kb, interner, &program, plan.problem, &steps);
+/// The first error's message.
+fn first_error(diagnostics: &crate::diag::Diagnostics) -> String {
+    diagnostics.iter().find(|d| d.severity == crate::diag::Severity::Error).map_or(String::new(), |d| d.message.clone())
+}
+
+/// Validates the plan kept with [`validate`] and its schedule with
+/// [`validate::validate_timed`]: the makespan and the sequential time, or what went wrong.
+fn check(session: &mut Session, planned: &Planned) -> Result<(i64, i64), String> {
+    let (plan, timed) = (planned.plan(), &planned.timed);
+    let span = session.kb().problems[plan.problem].span;
+    let steps = validate::PlanStep::of_plan(session.kb(), plan, span);
+    let verdict = session.validate(plan.problem, &steps);
     if verdict.diagnostics.has_errors() {
         return Err(format!("INVALID PLAN (a planner bug): {}", first_error(&verdict.diagnostics)));
     }
-    let timed_steps: Vec<validate::PlanStep> = crate::ir::schedule::timed_actions(kb, &timed.pop, &timed.schedule)
-        .into_iter()
-        .map(|a| validate::PlanStep { timing: Some((a.time, a.duration)), ..validate::PlanStep::named(a.name, span) })
-        .collect();
-    let verdict = validate::validate_timed(kb, interner, &program, plan.problem, &timed_steps);
+    let timed_steps: Vec<validate::PlanStep> =
+        crate::ir::schedule::timed_actions(session.kb(), &timed.pop, &timed.schedule)
+            .into_iter()
+            .map(|a| validate::PlanStep {
+                timing: Some((a.time, a.duration)),
+                ..validate::PlanStep::named(a.name, span)
+            })
+            .collect();
+    let verdict = session.validate(plan.problem, &timed_steps);
     if verdict.diagnostics.has_errors() {
         return Err(format!("INVALID SCHEDULE (a scheduler bug): {}", first_error(&verdict.diagnostics)));
     }

@@ -15,12 +15,10 @@ use kbvm::Program;
 use kbvm::sim::SimHost;
 
 use crate::diag::Diagnostics;
-use crate::driver::{self, Frontend};
 use crate::execute::{self, HostEvent, Logged, Outcome, Run};
 use crate::ir::hir::{Literal, Problem, Term};
-use crate::ir::plan::Plan;
-use crate::planner::{self, Options};
-use crate::source::SourceDb;
+use crate::planner;
+use crate::session::{HostProfile, PlanError, PlanSettings, SearchFailed, Session};
 
 /// The predicates the simulated world reads back; an initial fact of any other predicate is
 /// carried over into a replanned problem unchanged (the world cannot observe it).
@@ -32,13 +30,11 @@ pub struct Settings<'a> {
     pub replan: bool,
     /// The most recoveries before giving up.
     pub max_recoveries: u32,
-    /// The search options for each replan (a fresh deadline each time).
-    pub options: &'a dyn Fn() -> Options,
-    /// Run each replanned plan through the `reassign` pass, as `kbc plan` does for the
-    /// heuristic search's plans (see [`driver::reassign`]).
-    pub reassign: bool,
+    /// How each replan is found and scheduled, as `kbc plan` does (the timeout counts from
+    /// each replan's start).
+    pub plan: &'a PlanSettings,
     /// The host profile the replanned programs are checked against.
-    pub profile: (&'a str, &'a [(&'a str, usize)]),
+    pub profile: HostProfile<'a>,
     /// Each round's time budget, in program units.
     pub max_time: i64,
     /// Each round's tick budget.
@@ -87,10 +83,8 @@ pub enum Verdict {
     NoPlan {
         /// The replanned problem.
         problem: usize,
-        /// The search's failure.
-        failure: planner::Failure,
-        /// The search's figures.
-        stats: planner::Stats,
+        /// Why the search found none, and its figures.
+        failed: std::rc::Rc<SearchFailed>,
     },
     /// A replanned plan could not be scheduled or compiled: the diagnostics say why.
     NotCompiled(Diagnostics),
@@ -111,8 +105,7 @@ pub struct Execution {
 /// Runs `program` (planned for `problem`, with makespan `planned`) in `sim`'s world, and
 /// recovers from faults as `settings` allow.
 pub fn execute(
-    frontend: &mut Frontend,
-    db: &mut SourceDb,
+    session: &mut Session,
     problem: usize,
     program: Program,
     planned: i64,
@@ -134,13 +127,13 @@ pub fn execute(
         let log = host.log;
         sim = host.host;
         // The goal, without what a stopped arm can no longer make true.
-        let (goal, _) = waive(frontend, problem, &sim.world().stopped_arms());
+        let (goal, _) = waive(session, problem, &sim.world().stopped_arms());
         // When the tree says the plan was carried out, its timeline must satisfy the KB.
         let timeline = match run.outcome {
-            Outcome::Success => execute::check_timeline(frontend, db, round_problem, &program, &run),
+            Outcome::Success => execute::check_timeline(session, round_problem, &program, &run),
             _ => Diagnostics::new(),
         };
-        let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
+        let (facts, unaccounted) = execute::world_facts(sim.world(), session.interner_mut());
         let detected = match &run.outcome {
             Outcome::Success => {
                 let unmet = execute::unmet_goals(&goal, &facts);
@@ -149,7 +142,7 @@ pub fn execute(
                 } else if unmet.is_empty() {
                     Some(format!("the tree succeeded, but {}", unaccounted.join("; ")))
                 } else {
-                    let show = |t: &Term| crate::ir::hir::term_to_string(&frontend.interner, t, &Default::default());
+                    let show = |t: &Term| crate::ir::hir::term_to_string(session.interner(), t, &Default::default());
                     let unmet: Vec<String> = unmet.iter().map(|t| format!("`{}`", show(t))).collect();
                     Some(format!("the tree succeeded, but the world lacks {}", unmet.join(", ")))
                 }
@@ -213,26 +206,29 @@ pub fn execute(
             return Execution { rounds, sim, verdict: Verdict::Unrecoverable { why } };
         }
         recovered.push(world);
-        let (facts, unaccounted) = execute::world_facts(sim.world(), &mut frontend.interner);
-        if let Some(why) = unreachable_goal(frontend, &goal, &facts, &unaccounted, &sim) {
+        let (facts, unaccounted) = execute::world_facts(sim.world(), session.interner_mut());
+        if let Some(why) = unreachable_goal(session, &goal, &facts, &unaccounted, &sim) {
             let verdict = Verdict::Unrecoverable { why };
             return Execution { rounds, sim, verdict };
         }
-        let new_problem = replanned_problem(frontend, problem, &facts, &sim.world().stopped_arms());
-        let mut task = crate::passes::task::build(&frontend.kb, new_problem);
-        let options = (settings.options)();
-        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut planner::Silent);
-        let plan = match outcome.result {
-            Ok(plan) => plan,
-            Err(failure) => {
-                let verdict = Verdict::NoPlan { problem: new_problem, failure, stats: outcome.stats };
+        let new_problem = replanned_problem(session, problem, &facts, &sim.world().stopped_arms());
+        // What the replan reports is kept only when it fails.
+        let _ = session.take_diagnostics();
+        let planned = match session.plan(new_problem, settings.plan, &mut planner::Silent) {
+            Ok(planned) => planned,
+            Err(PlanError::Search(failed)) => {
+                let verdict = Verdict::NoPlan { problem: new_problem, failed };
+                return Execution { rounds, sim, verdict };
+            }
+            Err(PlanError::Unschedulable | PlanError::PlanFile) => {
+                let verdict = Verdict::NotCompiled(session.take_diagnostics());
                 return Execution { rounds, sim, verdict };
             }
         };
-        match compile(frontend, db, plan, settings.profile, settings.reassign) {
-            Ok((program, makespan)) => current = (new_problem, program, makespan),
-            Err(diagnostics) => {
-                let verdict = Verdict::NotCompiled(diagnostics);
+        match session.build(&planned, Some(settings.profile)) {
+            Some(built) => current = (new_problem, built.program(), planned.timed.schedule.makespan),
+            None => {
+                let verdict = Verdict::NotCompiled(session.take_diagnostics());
                 return Execution { rounds, sim, verdict };
             }
         }
@@ -250,24 +246,24 @@ fn sorted_facts(world: &kbvm::sim::World) -> Vec<String> {
 /// The goal of `problem` split into the literals kept and those waived: a literal that names a
 /// stopped arm (`available(a2)` once a2 has stopped) can never hold again, whatever the
 /// other arms do.
-pub fn waive(frontend: &Frontend, problem: usize, stopped: &[String]) -> (Vec<Term>, Vec<Term>) {
-    let interner = &frontend.interner;
+pub fn waive(session: &Session, problem: usize, stopped: &[String]) -> (Vec<Term>, Vec<Term>) {
+    let interner = session.interner();
     let names_stopped = |t: &Term| {
         t.args().iter().any(|a| matches!(a, Term::Atom(s) if stopped.iter().any(|n| n == interner.resolve(*s))))
     };
-    frontend.kb.problems[problem].goal.iter().map(|l| l.term.clone()).partition(|t| !names_stopped(t))
+    session.kb().problems[problem].goal.iter().map(|l| l.term.clone()).partition(|t| !names_stopped(t))
 }
 
 /// Why the goal cannot be reached from the world read back, if that is plain without a
 /// search: a goal block lost or held by a stopped arm, or no arm left.
 fn unreachable_goal(
-    frontend: &Frontend,
+    session: &Session,
     goal: &[Term],
     facts: &[Term],
     unaccounted: &[String],
     sim: &SimHost,
 ) -> Option<String> {
-    let interner = &frontend.interner;
+    let interner = session.interner();
     let mut goal_atoms = Vec::new();
     for literal in goal {
         for arg in literal.args() {
@@ -304,53 +300,18 @@ fn unreachable_goal(
 
 /// Adds the problem "the original goal, from the world read back" to the KB: the facts read
 /// back, plus the original initial facts of predicates the world does not observe.
-fn replanned_problem(frontend: &mut Frontend, original: usize, facts: &[Term], stopped: &[String]) -> usize {
-    let (_, waived) = waive(frontend, original, stopped);
-    let interner = &mut frontend.interner;
-    let observed: Vec<(crate::intern::Symbol, usize)> =
-        OBSERVED.iter().map(|&(n, a)| (interner.intern(n), a)).collect();
-    let base = &frontend.kb.problems[original];
+fn replanned_problem(session: &mut Session, original: usize, facts: &[Term], stopped: &[String]) -> usize {
+    let (_, waived) = waive(session, original, stopped);
+    let observed: Vec<(crate::intern::Symbol, usize)> = OBSERVED.iter().map(|&(n, a)| (session.intern(n), a)).collect();
+    let base = &session.kb().problems[original];
     let span = base.name_span;
     let literal = |term: Term| Literal { term, span, name_span: span };
     let mut init: Vec<Literal> = facts.iter().cloned().map(literal).collect();
     init.extend(base.init.iter().filter(|l| !observed.iter().any(|&(n, a)| l.name() == n && l.arity() == a)).cloned());
-    let round = frontend.kb.problems.len();
-    let name = format!("{}_from_world_{round}", interner.resolve(base.name));
+    let round = session.kb().problems.len();
+    let name = format!("{}_from_world_{round}", session.interner().resolve(base.name));
     let goal = base.goal.iter().filter(|l| !waived.contains(&l.term)).cloned().collect();
-    let problem = Problem { name: interner.intern(&name), init, goal, ..base.clone() };
-    frontend.kb.problems.push(problem);
-    frontend.kb.problems.len() - 1
-}
-
-/// Schedules and compiles a replanned plan for the host; the program and its makespan.
-fn compile(
-    frontend: &Frontend,
-    db: &SourceDb,
-    plan: Plan,
-    profile: (&str, &[(&str, usize)]),
-    reassign: bool,
-) -> Result<(Program, i64), Diagnostics> {
-    let mut diagnostics = Diagnostics::new();
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    let program = planner::program_for(kb, plan.problem);
-    let Some(timed) = driver::schedule(kb, interner, &program, &plan, &mut diagnostics) else {
-        return Err(diagnostics);
-    };
-    let (plan, timed) = if reassign {
-        let mut task = crate::passes::task::build(kb, plan.problem);
-        driver::reassign(kb, interner, &program, &mut task, plan, timed)
-    } else {
-        (plan, timed)
-    };
-    match driver::build_bytecode(kb, interner, db, &plan, &timed, Some(profile)) {
-        Ok((_, module)) => {
-            let program = Program::load(&module.encode())
-                .unwrap_or_else(|e| panic!("internal compiler error: the generated bytecode does not load: {e}"));
-            Ok((program, timed.schedule.makespan))
-        }
-        Err(diagnostic) => {
-            diagnostics.push(*diagnostic);
-            Err(diagnostics)
-        }
-    }
+    let base = base.clone();
+    let name = session.intern(&name);
+    session.add_problem(Problem { name, init, goal, ..base })
 }

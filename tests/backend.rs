@@ -4,38 +4,27 @@
 
 mod common;
 
-use common::{load, search, timed};
-use kbc::diag::Diagnostics;
-use kbc::driver::{self, Frontend};
+use common::{load, planned};
 use kbc::execute::{self, Outcome, TraceHost};
-use kbc::planner;
-use kbc::source::SourceDb;
-use kbc::validate;
+use kbc::session::Session;
 use kbvm::Program;
 
 /// Builds, runs and validates one problem; returns the bytecode and the executed makespan.
-fn build_run_validate(frontend: &mut Frontend, db: &mut SourceDb, problem: usize, what: &str) -> (Vec<u8>, i64) {
-    let plan = search(frontend, problem);
-    let timed = timed(frontend, &plan);
-    let (_, module) =
-        driver::build_bytecode(&frontend.kb, &frontend.interner, db, &plan, &timed, None).expect("builds");
-    let bytes = module.encode();
+fn build_run_validate(session: &mut Session, problem: usize, what: &str) -> (Vec<u8>, i64) {
+    let planned = planned(session, problem);
+    let built = session.build(&planned, None).expect("builds");
+    let bytes = built.module.encode();
     let program = Program::load(&bytes).unwrap_or_else(|e| panic!("{what}: the bytecode does not load: {e}"));
     let mut host = TraceHost::default();
     let run = execute::run(&program, &mut host, 10_000_000, 1_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}");
     // Every snap action happened.
     assert!(run.events.iter().all(Option::is_some), "{what}: some events never happened");
+    let timeline = execute::check_timeline(session, problem, &program, &run);
     let text = execute::timed_plan(&program, &run);
-    let file = db.add(format!("<executed {what}>"), None, text.clone());
-    let mut diags = Diagnostics::new();
-    let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diags);
-    assert!(!diags.has_errors(), "{what}: {:?}", common::messages(&diags));
-    let kb_program = planner::program_for(&frontend.kb, problem);
-    let verdict = validate::validate_timed(&frontend.kb, &frontend.interner, &kb_program, problem, &steps);
-    assert!(!verdict.diagnostics.has_errors(), "{what}: {:?}\n{text}", common::messages(&verdict.diagnostics));
+    assert!(!timeline.has_errors(), "{what}: {:?}\n{text}", common::messages(&timeline));
     // With actions taking their least durations, execution keeps the earliest schedule.
-    assert_eq!(run.end, timed.schedule.makespan, "{what}: executed makespan");
+    assert_eq!(run.end, planned.timed.schedule.makespan, "{what}: executed makespan");
     (bytes, run.end)
 }
 
@@ -46,9 +35,9 @@ fn the_papers_examples_run_to_success_and_their_timelines_validate() {
         &["examples/06_partial_order/kb.pl"][..],
         &["examples/03_paper_schema/kb.pl"][..],
     ] {
-        let (mut frontend, mut db) = load(paths);
-        for problem in 0..frontend.kb.problems.len() {
-            build_run_validate(&mut frontend, &mut db, problem, &format!("{paths:?} #{problem}"));
+        let mut session = load(paths);
+        for problem in 0..session.kb().problems.len() {
+            build_run_validate(&mut session, problem, &format!("{paths:?} #{problem}"));
         }
     }
 }
@@ -61,16 +50,16 @@ fn the_ladder_runs_to_success_and_its_timelines_validate() {
         let path = dir.join(format!("{}.pl", rung.name()));
         std::fs::write(&path, rung.source()).expect("writable");
         let path = path.display().to_string();
-        let (mut frontend, mut db) = load(&[&path]);
-        build_run_validate(&mut frontend, &mut db, 0, &rung.name());
+        let mut session = load(&[&path]);
+        build_run_validate(&mut session, 0, &rung.name());
     }
 }
 
 #[test]
 fn the_bytecode_is_byte_identical_across_runs() {
     let build = || {
-        let (mut frontend, mut db) = load(&["examples/02_llm_stacking/test_case.pl"]);
-        build_run_validate(&mut frontend, &mut db, 0, "test_case").0
+        let mut session = load(&["examples/02_llm_stacking/test_case.pl"]);
+        build_run_validate(&mut session, 0, "test_case").0
     };
     let first = build();
     assert_eq!(first, build());

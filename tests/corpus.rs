@@ -13,12 +13,9 @@ mod common;
 
 use std::path::PathBuf;
 
-use kbc::cli::FsLoader;
 use kbc::diag::{Diagnostics, Severity};
-use kbc::driver;
-use kbc::planner::{self, Failure, Options, Silent};
-use kbc::source::SourceDb;
-use kbc::validate;
+use kbc::planner::{Failure, Silent};
+use kbc::session::{PlanSettings, Session};
 
 fn cases() -> Vec<(String, Vec<PathBuf>)> {
     let mut cases = Vec::new();
@@ -57,17 +54,11 @@ fn codes(diagnostics: &Diagnostics, severity: Severity) -> Vec<String> {
 
 /// Checks one case; the list of what did not hold.
 fn check(files: &[PathBuf]) -> Vec<String> {
-    let mut db = SourceDb::new();
-    let roots: Vec<_> = files
-        .iter()
-        .map(|p: &PathBuf| {
-            let text = std::fs::read_to_string(p).expect("readable file");
-            db.add(p.display().to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
-        })
-        .collect();
-    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
-    let errors = codes(&frontend.diagnostics, Severity::Error);
-    let warnings = codes(&frontend.diagnostics, Severity::Warning);
+    let mut session = Session::open_files(files);
+    let errors = codes(session.diagnostics(), Severity::Error);
+    let warnings = codes(session.diagnostics(), Severity::Warning);
+    let has_note = session.diagnostics().iter().any(|d| d.severity == Severity::Note);
+    let settings = PlanSettings::default();
     let mut wrong = Vec::new();
     let expected = expectations(files);
     if expected.is_empty() {
@@ -81,23 +72,17 @@ fn check(files: &[PathBuf]) -> Vec<String> {
                 }
             }
             ["note"] => {
-                if !frontend.diagnostics.iter().any(|d| d.severity == Severity::Note) || !errors.is_empty() {
+                if !has_note || !errors.is_empty() {
                     wrong.push(format!("expected a note and no error, got errors {errors:?}"));
                 }
             }
             ["refuse", code] => {
                 let mut found = errors.clone();
                 if errors.is_empty() {
-                    for problem in 0..frontend.kb.problems.len() {
-                        let mut task = kbc::passes::task::build(&frontend.kb, problem);
-                        let outcome = planner::search(
-                            &frontend.kb,
-                            &frontend.interner,
-                            &mut task,
-                            &Options::default(),
-                            &mut Silent,
-                        );
-                        if let Err(Failure::Unsolvable(d)) = outcome.result {
+                    for problem in 0..session.kb().problems.len() {
+                        if let Err(failed) = session.search(problem, &settings, &mut Silent)
+                            && let Failure::Unsolvable(d) = &failed.failure
+                        {
                             found.extend(d.code.map(|c| c.to_string()));
                         }
                     }
@@ -111,17 +96,14 @@ fn check(files: &[PathBuf]) -> Vec<String> {
                     wrong.push(format!("expected a plan for {name}, but the KB is refused: {errors:?}"));
                     continue;
                 }
-                let Ok(problem) = driver::select_problem(&frontend.kb, &frontend.interner, Some(name)) else {
+                let Some(problem) = session.problem(Some(name)) else {
                     wrong.push(format!("no problem {name}"));
                     continue;
                 };
-                let mut task = kbc::passes::task::build(&frontend.kb, problem);
-                let outcome =
-                    planner::search(&frontend.kb, &frontend.interner, &mut task, &Options::default(), &mut Silent);
-                let plan = match outcome.result {
-                    Ok(plan) => plan,
-                    Err(failure) => {
-                        wrong.push(format!("no plan for {name}: {failure:?}"));
+                let plan = match session.search(problem, &settings, &mut Silent) {
+                    Ok(searched) => searched.plans[0].clone(),
+                    Err(failed) => {
+                        wrong.push(format!("no plan for {name}: {:?}", failed.failure));
                         continue;
                     }
                 };
@@ -130,18 +112,14 @@ fn check(files: &[PathBuf]) -> Vec<String> {
                 {
                     wrong.push(format!("{name}: expected {n} steps, got {}", plan.steps.len()));
                 }
-                let printed = kbc::ir::plan::print(&frontend.interner, &frontend.kb, &plan);
-                let mut interner = frontend.interner.clone();
-                let mut plan_db = SourceDb::new();
-                let file = plan_db.add("plan.txt", None, printed.clone());
-                let mut diags = Diagnostics::new();
-                let steps = validate::read_plan(file, &printed, &mut interner, &mut diags);
-                let program = planner::program_for(&frontend.kb, problem);
-                let verdict = validate::validate(&frontend.kb, &interner, &program, problem, &steps);
-                if diags.has_errors() || verdict.diagnostics.has_errors() {
+                // kbc validate reads what kbc plan prints.
+                let printed = kbc::ir::plan::print(session.interner(), session.kb(), &plan);
+                let file = session.add_text("plan.txt", printed.clone());
+                let verdict = session.read_plan_steps(file).map(|steps| session.validate(problem, &steps));
+                if verdict.as_ref().is_none_or(|v| v.diagnostics.has_errors()) {
                     wrong.push(format!(
                         "{name}: kbc validate rejects\n{printed}{:?}",
-                        common::messages(&verdict.diagnostics)
+                        verdict.map(|v| common::messages(&v.diagnostics))
                     ));
                 }
             }

@@ -355,8 +355,9 @@ fn the_state_checks_accept_every_ladder_problem() {
     for rung in kbc::ladder::standard() {
         let mut db = kbc::source::SourceDb::new();
         let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
-        let frontend = kbc::driver::frontend(&mut db, &[root], &mut kbc::passes::load::NoIncludes);
-        assert!(!frontend.diagnostics.has_errors(), "{}", rung.name());
+        let (db, frontend, diagnostics) =
+            kbc::session::Session::open(db, vec![root], &mut kbc::passes::load::NoIncludes).into_parts();
+        assert!(!diagnostics.has_errors(), "{}", rung.name());
         let vocabulary = Vocabulary::of(&frontend.kb, &frontend.interner).expect("the std vocabulary");
         let mut diagnostics = kbc::diag::Diagnostics::new();
         for (index, problem) in frontend.kb.problems.iter().enumerate() {

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use kbc::cli::FsLoader;
 use kbc::diag::render;
 use kbc::source::SourceDb;
+use kbc::source::fs::FsLoader;
 
 fn example_dirs() -> Vec<PathBuf> {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir("examples")
@@ -41,13 +41,13 @@ fn every_example_checks_clean() {
             })
             .collect();
         assert!(!ids.is_empty(), "{} has no .pl file", dir.display());
-        let frontend = kbc::driver::frontend(&mut db, &ids, &mut FsLoader);
-        let problems: Vec<_> = frontend.diagnostics.iter().filter(|d| d.code.is_some()).collect();
+        let (db, frontend, diagnostics) = kbc::session::Session::open(db, ids.clone(), &mut FsLoader).into_parts();
+        let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
         assert!(
             problems.is_empty(),
             "{} does not check clean:\n{}",
             dir.display(),
-            render::all_to_string(&db, &frontend.diagnostics)
+            render::all_to_string(&db, &diagnostics)
         );
         assert!(!frontend.kb.problems.is_empty(), "{} defines no problem", dir.display());
     }
@@ -56,9 +56,8 @@ fn every_example_checks_clean() {
 #[test]
 fn the_paper_tests_use_the_standard_domain_and_keep_their_names() {
     let path = Path::new("examples/01_paper_tests/tests.pl");
-    let mut db = SourceDb::new();
-    let id = db.add(path.display().to_string(), None, std::fs::read_to_string(path).expect("readable"));
-    let frontend = kbc::driver::frontend(&mut db, &[id], &mut FsLoader);
+    let session = kbc::session::Session::open_files(&[path.to_path_buf()]);
+    let frontend = session.hir();
     assert!(frontend.kb.uses_std_domain);
     let names: Vec<&str> = frontend.kb.problems.iter().map(|p| frontend.interner.resolve(p.name)).collect();
     assert_eq!(names, ["test1", "test2", "test3"]);

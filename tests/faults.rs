@@ -6,12 +6,11 @@
 
 mod common;
 
-use common::{load, search, timed};
-use kbc::driver;
+use common::load;
 use kbc::ir::hir::{Term, term_to_string};
-use kbc::planner::{Budget, Options, SearchKind};
+use kbc::planner::Silent;
 use kbc::recover::{self, Settings, Verdict};
-use kbvm::Program;
+use kbc::session::PlanSettings;
 use kbvm::sim::{FaultSpec, PRIMITIVES, Rng, SimConfig, SimHost};
 
 /// One scenario's result: did it reach the goal, the rounds, the report.
@@ -25,39 +24,35 @@ struct Ended {
 /// recovery; checks the invariants every scenario must keep.
 fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
     let what = format!("{files:?} --fault {fault} --seed {seed}");
-    let (mut frontend, mut db) = load(files);
-    let plan = search(&frontend, 0);
-    let timed = timed(&frontend, &plan);
-    let (_, module) =
-        driver::build_bytecode(&frontend.kb, &frontend.interner, &db, &plan, &timed, Some(("sim", PRIMITIVES)))
-            .unwrap_or_else(|d| panic!("{what}: {}", d.message));
-    let program = Program::load(&module.encode()).expect("loads");
-    let world = kbc::execute::sim_world(&program, SimConfig::default(), &kbc::execute::kb_cells(&frontend, 0))
-        .expect("a world");
+    let mut session = load(files);
+    let first = PlanSettings { reassign: false, ..common::settings() };
+    let planned = session.plan(0, &first, &mut Silent).unwrap_or_else(|e| panic!("{what}: {e:?}"));
+    let timed = &planned.timed;
+    let built = session
+        .build(&planned, Some(("sim", PRIMITIVES)))
+        .unwrap_or_else(|| panic!("{what}: {:?}", common::messages(session.diagnostics())));
+    let program = built.program();
+    let cells = kbc::execute::kb_cells(&mut session, 0);
+    let world = kbc::execute::sim_world(&program, SimConfig::default(), &cells).expect("a world");
     let spec: FaultSpec = fault.parse().expect("a fault");
     let horizon = timed.schedule.makespan as f64 / program.module().time_scale as f64;
     let blocks = world.block_names();
     let resolved = spec.resolve(&world.arm_names(), &blocks, horizon, &mut Rng::new(seed));
     let sim = SimHost::with_faults(world, vec![resolved], seed);
     // A small search budget: a replan that needs more is reported, not waited for.
-    let options = || Options {
-        search: SearchKind::Heuristic,
-        budget: Budget { max_states: 20_000, ..Budget::default() },
-        ..Options::default()
-    };
+    let replan = PlanSettings { max_states: 20_000, ..PlanSettings::default() };
     let settings = Settings {
         replan: true,
         max_recoveries: 3,
-        options: &options,
-        reassign: true,
+        plan: &replan,
         profile: ("sim", PRIMITIVES),
         max_time: 1_000_000,
         max_ticks: 1_000_000,
     };
     let makespan = timed.schedule.makespan;
-    let execution = recover::execute(&mut frontend, &mut db, 0, program, makespan, sim, &settings);
-    let (facts, unaccounted) = &kbc::execute::world_facts(execution.sim.world(), &mut frontend.interner);
-    let interner = &frontend.interner;
+    let execution = recover::execute(&mut session, 0, program, makespan, sim, &settings);
+    let (facts, unaccounted) = &kbc::execute::world_facts(execution.sim.world(), session.interner_mut());
+    let interner = session.interner();
     let show = |t: &Term| term_to_string(interner, t, &Default::default());
     let world: Vec<String> = facts.iter().map(show).collect();
     // Every block is accounted for: on a cell, held, or named in an unaccounted line.
@@ -71,7 +66,7 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
     }
     let (reached, report) = match &execution.verdict {
         Verdict::GoalReached => {
-            let (goal, _) = recover::waive(&frontend, 0, &execution.sim.world().stopped_arms());
+            let (goal, _) = recover::waive(&session, 0, &execution.sim.world().stopped_arms());
             let unmet: Vec<String> = kbc::execute::unmet_goals(&goal, facts).into_iter().map(show).collect();
             assert!(unmet.is_empty() && unaccounted.is_empty(), "{what}: goal reached, yet {unmet:?} {unaccounted:?}");
             (true, "goal reached".to_string())

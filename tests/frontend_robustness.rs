@@ -115,7 +115,7 @@ fn soup() -> impl Strategy<Value = String> {
 }
 
 fn corpus() -> Vec<String> {
-    let mut texts = vec![kbc::driver::STD_BLOCKS.to_string()];
+    let mut texts = vec![kbc::stdlib::STD_BLOCKS.to_string()];
     for path in [
         "examples/01_paper_tests/tests.pl",
         "examples/02_llm_stacking/test_case.pl",
@@ -209,12 +209,12 @@ fn check_diagnostic(db: &SourceDb, diagnostic: &Diagnostic) -> Result<(), TestCa
 fn run_frontend(text: &str) -> Result<(), TestCaseError> {
     let mut db = SourceDb::new();
     let id = db.add("input.pl", Some("input.pl".into()), text.to_string());
-    let frontend = kbc::driver::frontend(&mut db, &[id], &mut MemoryLoader::default());
-    for diagnostic in frontend.diagnostics.iter() {
-        check_diagnostic(&db, diagnostic)?;
+    let session = kbc::session::Session::open(db, vec![id], &mut MemoryLoader::default());
+    for diagnostic in session.diagnostics().iter() {
+        check_diagnostic(session.db(), diagnostic)?;
     }
     fast_path_agrees_with_the_grammar(text)?;
-    let syntax_error = frontend.diagnostics.iter().any(|d| d.code.is_some_and(|c| c.as_str().starts_with("E01")));
+    let syntax_error = session.diagnostics().iter().any(|d| d.code.is_some_and(|c| c.as_str().starts_with("E01")));
     if !syntax_error {
         round_trip(text)?;
     }

@@ -6,7 +6,6 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use kbc::driver::{self, Frontend};
 use kbc::engine::Machine;
 use kbc::ir::plan::Plan;
 use kbc::ladder::{self, Family, Rung};
@@ -14,15 +13,17 @@ use kbc::passes;
 use kbc::planner::relaxed::Relaxation;
 use kbc::planner::successors::{self, Successors};
 use kbc::planner::{self, Budget, Options, SearchKind, Silent};
-use kbc::source::SourceDb;
+use kbc::session::Frontend;
 use kbc::validate::{self, PlanStep};
 
+/// The front end's result on KB files that must check clean (these tests drive the planner's
+/// parts directly).
 fn load(paths: &[&str]) -> Frontend {
-    common::load(paths).0
+    common::load(paths).into_parts().1
 }
 
 fn problem(frontend: &Frontend, name: &str) -> usize {
-    driver::select_problem(&frontend.kb, &frontend.interner, Some(name)).expect("the problem exists")
+    frontend.kb.problems.iter().position(|p| frontend.interner.resolve(p.name) == name).expect("the problem exists")
 }
 
 fn budget(seconds: u64) -> Budget {
@@ -99,7 +100,7 @@ fn every_example_with_a_problem_is_planned_and_validated() {
         (&["examples/01_paper_tests/tests.pl"][..], Some("test2")),
     ] {
         let frontend = load(files);
-        let p = driver::select_problem(&frontend.kb, &frontend.interner, name).expect("one problem");
+        let p = name.map_or(0, |name| problem(&frontend, name));
         for search in [SearchKind::Heuristic, SearchKind::Paper] {
             let plan = plan(&frontend, p, search);
             assert_valid(&frontend, p, &plan);
@@ -133,10 +134,8 @@ fn ladder_problems_are_reproducible_and_well_formed() {
     assert_eq!(rung.source(), rung.source());
     assert_ne!(rung.source(), Rung { seed: 8, ..rung }.source(), "the seed matters");
     for rung in ladder::standard() {
-        let mut db = SourceDb::new();
-        let id = db.add(rung.name(), None, rung.source());
-        let frontend = driver::frontend(&mut db, &[id], &mut passes::load::NoIncludes);
-        let diagnostics: Vec<_> = frontend.diagnostics.iter().filter(|d| d.code.is_some()).collect();
+        let (_, frontend, diagnostics) = kbc::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+        let diagnostics: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
         assert!(diagnostics.is_empty(), "{}: {diagnostics:?}", rung.name());
         // Every block appears once in the initial state and once in the goal, in one place.
         let problem = &frontend.kb.problems[0];

@@ -24,11 +24,10 @@ use std::collections::{BTreeSet, HashSet, VecDeque};
 use std::fmt::Write;
 use std::time::{Duration, Instant};
 
-use kbc::cli::FsLoader;
-use kbc::driver;
 use kbc::ir::hir;
 use kbc::planner::{self, Budget, Failure, Options, SearchKind, Silent};
 use kbc::source::SourceDb;
+use kbc::source::fs::FsLoader;
 use kbc::validate::{self, PlanStep};
 
 // ---------------------------------------------------------------------------------------------
@@ -724,12 +723,12 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
     let reference = reference_plan(&kb, 20_000);
     let mut db = SourceDb::new();
     let root = db.add(format!("seed{seed}.pl"), None, text.clone());
-    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
+    let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
     let context = |what: String| format!("seed {seed}: {what}\n{text}");
-    if frontend.diagnostics.has_errors() {
+    if diagnostics.has_errors() {
         counts.refused += 1;
         if let Reference::Plan(plan) = &reference {
-            let messages = common::messages(&frontend.diagnostics);
+            let messages = common::messages(&diagnostics);
             return Err(context(format!("kbc refuses a KB the reference plans ({plan:?}): {messages:?}")));
         }
         return Ok(());
@@ -848,9 +847,9 @@ fn seeds_that_once_disagreed_agree() {
 fn plan_of(text: &str, search: SearchKind) -> Result<(Vec<String>, String), String> {
     let mut db = SourceDb::new();
     let root = db.add("case.pl", None, text.to_string());
-    let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
-    if frontend.diagnostics.has_errors() {
-        return Err(format!("refused: {:?}", common::messages(&frontend.diagnostics)));
+    let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
+    if diagnostics.has_errors() {
+        return Err(format!("refused: {:?}", common::messages(&diagnostics)));
     }
     let mut task = kbc::passes::task::build(&frontend.kb, 0);
     let options = Options { search, ..Options::default() };
@@ -999,8 +998,8 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         let text = kb_text(&kb);
         let mut db = SourceDb::new();
         let root = db.add(format!("seed{seed}.pl"), None, text.clone());
-        let frontend = driver::frontend(&mut db, &[root], &mut FsLoader);
-        if frontend.diagnostics.has_errors() {
+        let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
+        if diagnostics.has_errors() {
             continue;
         }
         let mut task = kbc::passes::task::build(&frontend.kb, 0);

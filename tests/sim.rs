@@ -4,32 +4,30 @@
 
 mod common;
 
-use common::{load, search, timed};
-use kbc::driver::{self, Frontend};
+use common::{load, planned};
 use kbc::execute::{self, Outcome};
-use kbc::source::SourceDb;
-use kbvm::Program;
+use kbc::session::Session;
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 /// Plans, builds and runs one problem on the simulated arms; returns the read-back facts as
 /// text and the achieved makespan.
-fn run_physically(frontend: &mut Frontend, db: &SourceDb, problem: usize, what: &str) -> (Vec<String>, i64) {
-    let plan = search(frontend, problem);
-    let timed = timed(frontend, &plan);
-    let (_, module) =
-        driver::build_bytecode(&frontend.kb, &frontend.interner, db, &plan, &timed, Some(("sim", PRIMITIVES)))
-            .unwrap_or_else(|d| panic!("{what}: {}", d.message));
-    assert!(!module.refinements.is_empty(), "{what}: the std mappings refine the actions");
-    let program = Program::load(&module.encode()).expect("loads");
-    let world = execute::sim_world(&program, SimConfig::default(), &execute::kb_cells(frontend, problem));
+fn run_physically(session: &mut Session, problem: usize, what: &str) -> (Vec<String>, i64) {
+    let planned = planned(session, problem);
+    let built = session
+        .build(&planned, Some(("sim", PRIMITIVES)))
+        .unwrap_or_else(|| panic!("{what}: {:?}", common::messages(session.diagnostics())));
+    assert!(!built.module.refinements.is_empty(), "{what}: the std mappings refine the actions");
+    let program = built.program();
+    let cells = execute::kb_cells(session, problem);
+    let world = execute::sim_world(&program, SimConfig::default(), &cells);
     let sim = SimHost::new(world.expect("a world"));
     let mut host = execute::Logged::new(sim);
     let run = execute::run(&program, &mut host, 10_000_000, 10_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}: {:?}", host.log.last());
-    let (facts, unaccounted) = execute::world_facts(host.host.world(), &mut frontend.interner);
-    let show = |t: &kbc::ir::hir::Term| kbc::ir::hir::term_to_string(&frontend.interner, t, &Default::default());
+    let (facts, unaccounted) = execute::world_facts(host.host.world(), session.interner_mut());
+    let show = |t: &kbc::ir::hir::Term| kbc::ir::hir::term_to_string(session.interner(), t, &Default::default());
     assert!(unaccounted.is_empty(), "{what}: {unaccounted:?}");
-    let goal: Vec<_> = frontend.kb.problems[problem].goal.iter().map(|l| l.term.clone()).collect();
+    let goal: Vec<_> = session.kb().problems[problem].goal.iter().map(|l| l.term.clone()).collect();
     let unmet: Vec<String> = execute::unmet_goals(&goal, &facts).into_iter().map(show).collect();
     assert!(unmet.is_empty(), "{what}: the world lacks {unmet:?}");
     // The goals of these problems describe every block: the read-back world is the goal's
@@ -46,12 +44,12 @@ fn run_physically(frontend: &mut Frontend, db: &SourceDb, problem: usize, what: 
 
 #[test]
 fn the_papers_test_cases_reach_their_goals_physically() {
-    let (mut frontend, db) = load(&["examples/01_paper_tests/tests.pl"]);
-    for problem in 0..frontend.kb.problems.len() {
-        run_physically(&mut frontend, &db, problem, &format!("test{}", problem + 1));
+    let mut session = load(&["examples/01_paper_tests/tests.pl"]);
+    for problem in 0..session.kb().problems.len() {
+        run_physically(&mut session, problem, &format!("test{}", problem + 1));
     }
-    let (mut frontend, db) = load(&["examples/02_llm_stacking/test_case.pl"]);
-    let (world, _) = run_physically(&mut frontend, &db, 0, "test_case");
+    let mut session = load(&["examples/02_llm_stacking/test_case.pl"]);
+    let (world, _) = run_physically(&mut session, 0, "test_case");
     for fact in ["ontable(b4, 5, 5)", "on(b3, b4, 5, 5)", "on(b2, b3, 5, 5)", "on(b1, b2, 5, 5)", "clear(b1)"] {
         assert!(world.contains(&fact.to_string()), "{fact} in {world:?}");
     }
@@ -64,15 +62,15 @@ fn the_ladder_up_to_10_blocks_and_4_arms_reaches_its_goals_physically() {
     for rung in kbc::ladder::standard().into_iter().filter(|r| r.blocks <= 10 && r.arms <= 4) {
         let path = dir.join(format!("{}.pl", rung.name()));
         std::fs::write(&path, rung.source()).expect("written");
-        let (mut frontend, db) = load(&[path.to_str().expect("utf-8")]);
-        run_physically(&mut frontend, &db, 0, &rung.name());
+        let mut session = load(&[path.to_str().expect("utf-8")]);
+        run_physically(&mut session, 0, &rung.name());
     }
 }
 
 #[test]
 fn the_same_program_gives_the_same_run() {
-    let (mut frontend, db) = load(&["examples/02_llm_stacking/test_case.pl"]);
-    let a = run_physically(&mut frontend, &db, 0, "first");
-    let b = run_physically(&mut frontend, &db, 0, "second");
+    let mut session = load(&["examples/02_llm_stacking/test_case.pl"]);
+    let a = run_physically(&mut session, 0, "first");
+    let b = run_physically(&mut session, 0, "second");
     assert_eq!(a, b);
 }

@@ -8,8 +8,6 @@ use common::{search, timed};
 
 use std::time::{Duration, Instant};
 
-use kbc::diag::Diagnostics;
-use kbc::driver::{self, Frontend, Timed};
 use kbc::ir::plan::Plan;
 use kbc::ir::pop::{Achiever, Pop};
 use kbc::ir::schedule;
@@ -17,42 +15,37 @@ use kbc::ir::stn::{Edge, EdgeKind, Stn, TimePoint};
 use kbc::ladder;
 use kbc::passes;
 use kbc::planner::{self, Budget, Options, SearchKind, Silent};
-use kbc::source::SourceDb;
-use kbc::validate::{self, PlanStep};
+use kbc::session::{ReassignedMakespan, Session, Timed};
+use kbc::validate::PlanStep;
 use petgraph::graph::DiGraph;
 
 /// The plan in a plan file, validated.
-fn plan_file(frontend: &mut Frontend, db: &mut SourceDb, path: &str, problem: usize) -> Plan {
-    let text = std::fs::read_to_string(path).expect("readable plan");
-    let file = db.add(path, None, text.clone());
-    let mut diags = Diagnostics::new();
-    let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diags);
-    assert!(!diags.has_errors());
-    let program = planner::program_for(&frontend.kb, problem);
-    let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
+fn plan_file(session: &mut Session, path: &str, problem: usize) -> Plan {
+    let file = session.read_file(path.as_ref()).expect("readable plan");
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(problem, &steps);
     assert!(!verdict.diagnostics.has_errors(), "the plan file is valid");
     verdict.plan
 }
 
 /// The schedule as a timed plan, replayed by the timed validator.
-fn assert_schedule_valid(frontend: &Frontend, timed: &Timed, times: &[i64]) {
-    let kb = &frontend.kb;
+fn assert_schedule_valid(session: &mut Session, timed: &Timed, times: &[i64]) {
+    let kb = session.kb();
     let span = kb.problems[timed.pop.problem].span;
     let schedule = schedule::Schedule { earliest: times.to_vec(), latest: times.to_vec(), makespan: 0 };
     let steps: Vec<PlanStep> = schedule::timed_actions(kb, &timed.pop, &schedule)
         .into_iter()
         .map(|a| PlanStep { timing: Some((a.time, a.duration)), ..PlanStep::named(a.name, span) })
         .collect();
-    let program = planner::program_for(kb, timed.pop.problem);
-    let verdict = validate::validate_timed(kb, &frontend.interner, &program, timed.pop.problem, &steps);
+    let verdict = session.validate(timed.pop.problem, &steps);
     assert!(!verdict.diagnostics.has_errors(), "invalid schedule: {:?}", common::messages(&verdict.diagnostics));
 }
 
 #[test]
 fn the_papers_example_reproduces_its_table_of_achievers() {
-    let (mut frontend, mut db) = common::load(&["examples/06_partial_order/kb.pl"]);
-    let plan = plan_file(&mut frontend, &mut db, "examples/06_partial_order/plan.txt", 0);
-    let timed = timed(&frontend, &plan);
+    let mut session = common::load(&["examples/06_partial_order/kb.pl"]);
+    let plan = plan_file(&mut session, "examples/06_partial_order/plan.txt", 0);
+    let timed = timed(&mut session, &plan);
     // The paper's table "List of achievers": a1 [a0], a2 [a1], a3 [a2], a4 [a0], a5 [a4],
     // a6 [a5], a7 [a6], a8 [a7, a3].
     let expected: [&[usize]; 8] = [&[0], &[1], &[2], &[0], &[4], &[5], &[6], &[3, 7]];
@@ -73,8 +66,8 @@ fn the_papers_example_reproduces_its_table_of_achievers() {
     assert_eq!((at(0), at(3)), (0, 0));
     assert_eq!((at(2), at(5)), (1000, 1000));
     assert!(at(7) > at(6), "b2 lands after b1, on top of it");
-    assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
-    assert_schedule_valid(&frontend, &timed, &timed.schedule.latest);
+    assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
+    assert_schedule_valid(&mut session, &timed, &timed.schedule.latest);
 }
 
 /// A random linearisation of `pop`'s partial order, from a linear congruential generator.
@@ -97,14 +90,12 @@ fn linearisation(pop: &Pop, seed: u64) -> Vec<usize> {
     order
 }
 
-fn assert_linearisations_valid(frontend: &Frontend, plan: &Plan, timed: &Timed, samples: u64) {
-    let kb = &frontend.kb;
-    let span = kb.problems[plan.problem].span;
-    let program = planner::program_for(kb, plan.problem);
+fn assert_linearisations_valid(session: &mut Session, plan: &Plan, timed: &Timed, samples: u64) {
+    let span = session.kb().problems[plan.problem].span;
     for seed in 0..samples {
         let order = linearisation(&timed.pop, seed);
         let steps: Vec<PlanStep> = order.iter().map(|&i| PlanStep::named(plan.steps[i].name.clone(), span)).collect();
-        let verdict = validate::validate(kb, &frontend.interner, &program, plan.problem, &steps);
+        let verdict = session.validate(plan.problem, &steps);
         assert!(
             !verdict.diagnostics.has_errors(),
             "linearisation {order:?} of the partial order is not a valid plan: {:?}",
@@ -115,38 +106,36 @@ fn assert_linearisations_valid(frontend: &Frontend, plan: &Plan, timed: &Timed, 
 
 #[test]
 fn every_linearisation_of_a_partial_order_is_a_valid_plan() {
-    let (frontend, _) = common::load(&["examples/01_paper_tests/tests.pl"]);
-    for problem in 0..frontend.kb.problems.len() {
-        let plan = search(&frontend, problem);
-        let timed = timed(&frontend, &plan);
-        assert_linearisations_valid(&frontend, &plan, &timed, 30);
-        assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
-        assert_schedule_valid(&frontend, &timed, &timed.schedule.latest);
+    let mut session = common::load(&["examples/01_paper_tests/tests.pl"]);
+    for problem in 0..session.kb().problems.len() {
+        let plan = search(&mut session, problem);
+        let timed = timed(&mut session, &plan);
+        assert_linearisations_valid(&mut session, &plan, &timed, 30);
+        assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
+        assert_schedule_valid(&mut session, &timed, &timed.schedule.latest);
     }
     for rung in ladder::standard().into_iter().filter(|r| r.blocks <= 6) {
-        let mut db = SourceDb::new();
-        let id = db.add(rung.name(), None, rung.source());
-        let frontend = driver::frontend(&mut db, &[id], &mut passes::load::NoIncludes);
-        let plan = search(&frontend, 0);
-        let timed = timed(&frontend, &plan);
-        assert_linearisations_valid(&frontend, &plan, &timed, 10);
-        assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
-        assert_schedule_valid(&frontend, &timed, &timed.schedule.latest);
+        let mut session = Session::from_text(&rung.name(), rung.source());
+        let plan = search(&mut session, 0);
+        let timed = timed(&mut session, &plan);
+        assert_linearisations_valid(&mut session, &plan, &timed, 10);
+        assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
+        assert_schedule_valid(&mut session, &timed, &timed.schedule.latest);
     }
 }
 
 #[test]
 fn the_schedule_runs_arms_in_parallel() {
-    let (frontend, _) = common::load(&["examples/02_llm_stacking/test_case.pl"]);
-    let plan = search(&frontend, 0);
-    let timed = timed(&frontend, &plan);
+    let mut session = common::load(&["examples/02_llm_stacking/test_case.pl"]);
+    let plan = search(&mut session, 0);
+    let timed = timed(&mut session, &plan);
     let sequential: i64 = timed.stn.durations.iter().flatten().map(|b| b.min).sum();
     assert!(
         timed.schedule.makespan < sequential,
         "makespan {} is not below one action at a time ({sequential})",
         timed.schedule.makespan
     );
-    assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
+    assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
 }
 
 /// No path in [`floyd_warshall`]'s matrix.
@@ -276,8 +265,8 @@ fn the_minimal_network_agrees_with_floyd_warshall() {
 
 #[test]
 fn improving_the_makespan_never_makes_it_longer() {
-    let (frontend, _) = common::load(&["examples/02_llm_stacking/test_case.pl"]);
-    let mut task = passes::task::build(&frontend.kb, 0);
+    let mut session = common::load(&["examples/02_llm_stacking/test_case.pl"]);
+    let mut task = passes::task::build(session.kb(), 0);
     let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
     let options = Options {
         search: SearchKind::Heuristic,
@@ -286,13 +275,13 @@ fn improving_the_makespan_never_makes_it_longer() {
         plans: usize::MAX,
         improve: Some(Duration::from_millis(500)),
     };
-    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    let outcome = planner::search(session.kb(), session.interner(), &mut task, &options, &mut Silent);
     let first = outcome.result.expect("a plan");
-    let first_makespan = timed(&frontend, &first).schedule.makespan;
+    let first_makespan = timed(&mut session, &first).schedule.makespan;
     let mut best = first_makespan;
     for plan in &outcome.alternatives {
-        let timed = timed(&frontend, plan);
-        assert_schedule_valid(&frontend, &timed, &timed.schedule.earliest);
+        let timed = timed(&mut session, plan);
+        assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
         best = best.min(timed.schedule.makespan);
     }
     assert!(best <= first_makespan);
@@ -311,7 +300,7 @@ fn improving_the_makespan_never_makes_it_longer() {
 
 /// A scorer that remembers every plan it was asked about.
 struct Recording<'a> {
-    inner: driver::ReassignedMakespan<'a>,
+    inner: ReassignedMakespan<'a>,
     scored: Vec<(Plan, Option<i64>)>,
 }
 
@@ -326,11 +315,9 @@ impl planner::Score for Recording<'_> {
 #[test]
 fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
     let rung = ladder::Rung { family: ladder::Family::Build, blocks: 8, arms: 3, seed: 1 };
-    let mut db = SourceDb::new();
-    let id = db.add(rung.name(), None, rung.source());
-    let frontend = driver::frontend(&mut db, &[id], &mut passes::load::NoIncludes);
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    let program = planner::program_for(kb, 0);
+    let mut session = Session::from_text(&rung.name(), rung.source());
+    let program = session.program(0);
+    let (kb, interner) = (session.kb(), session.interner());
     let mut task = passes::task::build(kb, 0);
     // A budget of states, not of time, so that the run is the same on any machine.
     let options = Options {
@@ -340,16 +327,16 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
         plans: 1,
         improve: Some(Duration::from_secs(600)),
     };
-    let mut recording =
-        Recording { inner: driver::ReassignedMakespan { kb, interner, program: &program }, scored: vec![] };
+    let mut recording = Recording { inner: ReassignedMakespan { kb, interner, program: &program }, scored: vec![] };
     let outcome = planner::search_scored(kb, interner, &mut task, &options, Some(&mut recording), &mut Silent);
     let first = outcome.result.expect("a plan");
     let mut kept = vec![first];
     kept.extend(outcome.alternatives);
+    let scored = recording.scored;
     // The plans kept are the first and then each one scored shorter than all before it.
     let mut best: Option<i64> = None;
     let mut expected = Vec::new();
-    for (plan, score) in &recording.scored {
+    for (plan, score) in &scored {
         let score = score.expect("every plan of this rung can be scheduled");
         if best.is_none_or(|b| score < b) {
             best = Some(score);
@@ -359,11 +346,11 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
     assert_eq!(kept, expected);
     // Scores are the makespan `kbc plan` ends up with: scheduled, then reassigned.
     for plan in &kept {
-        let scheduled = timed(&frontend, plan);
-        let (_, reassigned) = driver::reassign(kb, interner, &program, &mut task, plan.clone(), scheduled);
-        let score = recording.scored.iter().find(|(p, _)| p == plan).and_then(|(_, s)| *s);
+        let scheduled = timed(&mut session, plan);
+        let (_, reassigned) = session.reassign(plan.clone(), scheduled);
+        let score = scored.iter().find(|(p, _)| p == plan).and_then(|(_, s)| *s);
         assert_eq!(score, Some(reassigned.schedule.makespan));
-        assert_schedule_valid(&frontend, &reassigned, &reassigned.schedule.earliest);
+        assert_schedule_valid(&mut session, &reassigned, &reassigned.schedule.earliest);
     }
     // On this rung (the first plan 33.001 time units after reassigning) the phase finds
     // shorter ones within the budget (27.001 when written).
@@ -372,13 +359,13 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
 
 /// The plan's step names with every unit name (arm) erased, sorted: what a plan does to the
 /// world, apart from who does it and when.
-fn without_units(frontend: &Frontend, plan: &Plan, units: &[&str]) -> Vec<String> {
+fn without_units(session: &Session, plan: &Plan, units: &[&str]) -> Vec<String> {
     let no_vars = kbc::ir::hir::VarTable::default();
     let mut names: Vec<String> = plan
         .steps
         .iter()
         .map(|s| {
-            let text = kbc::ir::hir::term_to_string(&frontend.interner, &s.name, &no_vars);
+            let text = kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars);
             let mut args: Vec<String> = text.split(['(', ',', ')']).map(|a| a.trim().to_string()).collect();
             for arg in &mut args {
                 if units.contains(&arg.as_str()) {
@@ -393,9 +380,9 @@ fn without_units(frontend: &Frontend, plan: &Plan, units: &[&str]) -> Vec<String
 }
 
 /// The search's timeline of a whole plan, replayed: (makespan, resource-free makespan).
-fn timeline_makespans(frontend: &Frontend, plan: &Plan) -> (i64, i64) {
-    let program = planner::program_for(&frontend.kb, plan.problem);
-    let mut task = passes::task::build(&frontend.kb, plan.problem);
+fn timeline_makespans(session: &mut Session, plan: &Plan) -> (i64, i64) {
+    let program = session.program(plan.problem);
+    let mut task = passes::task::build(session.kb(), plan.problem);
     let mut machine = kbc::engine::Machine::new(&program, Budget::default().engine_steps);
     let mut durations = planner::timing::Durations::default();
     let mut timeline = planner::timing::Timeline::default();
@@ -418,38 +405,33 @@ fn reassigning_jobs_keeps_plans_valid_and_never_makes_them_longer() {
     rungs.extend((2..5).map(|seed| ladder::Rung { family: ladder::Family::Swap, blocks: 8, arms: 3, seed }));
     rungs.extend((2..5).map(|seed| ladder::Rung { family: ladder::Family::Build, blocks: 8, arms: 4, seed }));
     for rung in rungs {
-        let mut db = SourceDb::new();
-        let id = db.add(rung.name(), None, rung.source());
-        let frontend = driver::frontend(&mut db, &[id], &mut passes::load::NoIncludes);
-        let kb = &frontend.kb;
-        let plan = search(&frontend, 0);
-        let searched = timed(&frontend, &plan);
+        let mut session = Session::from_text(&rung.name(), rung.source());
+        let plan = search(&mut session, 0);
+        let searched = timed(&mut session, &plan);
         let before = searched.schedule.makespan;
-        let program = planner::program_for(kb, 0);
-        let mut task = passes::task::build(kb, 0);
-        let (again, _) =
-            driver::reassign(kb, &frontend.interner, &program, &mut task, plan.clone(), timed(&frontend, &plan));
-        let (reassigned, kept) = driver::reassign(kb, &frontend.interner, &program, &mut task, plan.clone(), searched);
+        let scheduled = timed(&mut session, &plan);
+        let (again, _) = session.reassign(plan.clone(), scheduled);
+        let (reassigned, kept) = session.reassign(plan.clone(), searched);
         assert_eq!(again, reassigned, "{}: the pass is deterministic", rung.name());
         assert!(kept.schedule.makespan <= before, "{}: longer after reassigning", rung.name());
         // The same steps, up to who does them.
         let arms: Vec<String> = (1..=rung.arms).map(|a| format!("a{a}")).collect();
         let arms: Vec<&str> = arms.iter().map(String::as_str).collect();
-        assert_eq!(without_units(&frontend, &plan, &arms), without_units(&frontend, &reassigned, &arms));
+        assert_eq!(without_units(&session, &plan, &arms), without_units(&session, &reassigned, &arms));
         // Valid for the independent validator, as a total order, as a schedule, and in any
         // order its partial order allows.
-        let span = kb.problems[0].span;
-        let steps: Vec<PlanStep> = PlanStep::of_plan(&frontend.kb, &reassigned, span);
-        let verdict = validate::validate(kb, &frontend.interner, &program, 0, &steps);
+        let span = session.kb().problems[0].span;
+        let steps: Vec<PlanStep> = PlanStep::of_plan(session.kb(), &reassigned, span);
+        let verdict = session.validate(0, &steps);
         assert!(!verdict.diagnostics.has_errors(), "{}: {:?}", rung.name(), common::messages(&verdict.diagnostics));
-        let rescheduled = timed(&frontend, &reassigned);
+        let rescheduled = timed(&mut session, &reassigned);
         assert_eq!(kept.pop, rescheduled.pop, "{}: the partial order kept is the plan's", rung.name());
         assert_eq!(kept.schedule, rescheduled.schedule, "{}: the schedule kept is the plan's", rung.name());
-        assert_schedule_valid(&frontend, &kept, &kept.schedule.earliest);
-        assert_linearisations_valid(&frontend, &reassigned, &kept, 5);
+        assert_schedule_valid(&mut session, &kept, &kept.schedule.earliest);
+        assert_linearisations_valid(&mut session, &reassigned, &kept, 5);
         // The resource-free makespan the improvement phase prunes with is a lower bound for
         // the plan with its jobs given out again, and no more than the search's own estimate.
-        let (estimate, free) = timeline_makespans(&frontend, &plan);
+        let (estimate, free) = timeline_makespans(&mut session, &plan);
         assert!(free <= estimate, "{}: resource-free {free} above {estimate}", rung.name());
         assert!(free <= kept.schedule.makespan, "{}: {free} is no bound for {}", rung.name(), kept.schedule.makespan);
         if kept.schedule.makespan < before {
@@ -463,34 +445,29 @@ fn reassigning_jobs_keeps_plans_valid_and_never_makes_them_longer() {
 
 #[test]
 fn reassigning_needs_a_renewable_resource_and_every_unit_in_a_job() {
-    let load = |name: &str, text: &str| {
-        let mut db = SourceDb::new();
-        let id = db.add(name, None, text);
-        driver::frontend(&mut db, &[id], &mut passes::load::NoIncludes)
-    };
     let rung = ladder::Rung { family: ladder::Family::Build, blocks: 6, arms: 3, seed: 1 };
-    let frontend = load(&rung.name(), &rung.source());
-    let plan = search(&frontend, 0);
-    let timed = timed(&frontend, &plan);
+    let mut session = Session::from_text(&rung.name(), rung.source());
+    let plan = search(&mut session, 0);
+    let timed = timed(&mut session, &plan);
     assert!(
-        !passes::reassign::candidates(&frontend.kb, &plan, &timed.pop, &timed.stn).is_empty(),
+        !passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn).is_empty(),
         "with `resources(available(_))` the pass has candidates"
     );
-    let mut kb = frontend.kb.clone();
+    let mut kb = session.kb().clone();
     kb.resources.clear();
     assert!(passes::reassign::candidates(&kb, &plan, &timed.pop, &timed.stn).is_empty());
     // An arm that grips a block in the initial state works before any job takes it: the pass
     // leaves such plans alone.
-    let held = load(
+    let mut held = Session::from_text(
         "held.pl",
         "held :- go([available(a2), available(a3), gripped(a1, b1), ontable(b1, 1, 1), ontable(b2, 2, 2), \
          clear(b2), ontable(b3, 4, 1), clear(b3)], [ontable(b1, 3, 3), on(b2, b1, 3, 3), on(b3, b2, 3, 3), \
          available(a1), available(a2), available(a3)]).",
     );
-    assert!(!held.diagnostics.has_errors(), "{:?}", common::messages(&held.diagnostics));
-    let plan = search(&held, 0);
-    assert!(plan.steps.iter().any(|s| kbc::ir::hir::term_to_string(&held.interner, &s.name, &Default::default())
+    assert!(!held.has_errors(), "{:?}", common::messages(held.diagnostics()));
+    let plan = search(&mut held, 0);
+    assert!(plan.steps.iter().any(|s| kbc::ir::hir::term_to_string(held.interner(), &s.name, &Default::default())
         == "move_block_start(a1, b1, 1, 1, 3, 3)"));
-    let timed = common::timed(&held, &plan);
-    assert!(passes::reassign::candidates(&held.kb, &plan, &timed.pop, &timed.stn).is_empty());
+    let timed = common::timed(&mut held, &plan);
+    assert!(passes::reassign::candidates(held.kb(), &plan, &timed.pop, &timed.stn).is_empty());
 }

@@ -12,9 +12,8 @@
 
 use std::path::{Path, PathBuf};
 
-use kbc::cli::FsLoader;
 use kbc::diag::render;
-use kbc::source::SourceDb;
+use kbc::session::Session;
 
 fn cases() -> Vec<PathBuf> {
     let root = Path::new("tests/ui");
@@ -42,11 +41,8 @@ pub fn render_case(path: &Path) -> Result<String, String> {
     if let Some(command) = text.lines().next().and_then(|line| line.strip_prefix("% ui: kbc ")) {
         return run_command(path, command);
     }
-    let mut db = SourceDb::new();
-    let canonical = std::fs::canonicalize(path).expect("case path exists");
-    let root = db.add(path.display().to_string(), Some(canonical), text);
-    let frontend = kbc::driver::frontend(&mut db, &[root], &mut FsLoader);
-    Ok(render::all_to_string(&db, &frontend.diagnostics))
+    let session = Session::open_files(&[path.to_path_buf()]);
+    Ok(render::all_to_string(session.db(), session.diagnostics()))
 }
 
 fn run_command(path: &Path, command: &str) -> Result<String, String> {

@@ -9,12 +9,12 @@ use kbvm::Program;
 use kbvm::bytecode::MAGIC;
 
 use super::plan::{Planned, PlanningArgs, plan_and_schedule};
-use super::{MessageFormat, report};
+use super::{DumpAfter, MessageFormat, report};
 use crate::diag::{Diagnostic, Diagnostics, codes};
-use crate::driver;
 use crate::execute::{self, HostEvent, Logged, Outcome, TraceHost};
 use crate::recover;
 use crate::render;
+use crate::session::{self, Pass, Session};
 use crate::source::SourceDb;
 use kbvm::bytecode::Instr;
 use kbvm::sim::{FaultSpec, Rng, SimConfig};
@@ -29,9 +29,10 @@ pub(super) struct BuildArgs {
     /// What to write: the bytecode, the tree as BehaviorTree.CPP v4 XML, or as Graphviz.
     #[arg(long, value_enum, value_name = "KIND", default_value_t = BuildEmit::Bytecode)]
     emit: BuildEmit,
-    /// Print the behaviour tree on stdout first.
+    /// Print the intermediate representation after this pass on stdout first (any pass up to
+    /// `bt`, the behaviour tree).
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<BuildDump>,
+    dump_after: Option<DumpAfter>,
     /// Check that the host can run every action of the plan (directly or through its
     /// `mapping/2` refinement).
     #[arg(long, value_enum, value_name = "HOST")]
@@ -46,12 +47,6 @@ enum BuildEmit {
     BtXml,
     /// Graphviz DOT.
     BtDot,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum BuildDump {
-    /// The behaviour tree.
-    Bt,
 }
 
 #[derive(clap::Args)]
@@ -131,25 +126,21 @@ pub(super) fn build(args: BuildArgs, color: bool) -> ExitCode {
         eprintln!("error: bytecode is binary: give the file to write with `-o FILE` (or `--emit bt-xml` for text)");
         return ExitCode::from(2);
     }
-    let planned = match plan_and_schedule(&args.planning, color, false) {
+    let dump = args.dump_after.map(DumpAfter::pass);
+    let Planned { mut session, planned, .. } = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,
     };
-    let Planned { db, diagnostics, frontend, plans, index, timed, .. } = planned;
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    let mut diagnostics = diagnostics;
-    let (bt, module) =
-        match driver::build_bytecode(kb, interner, &db, &plans[index], &timed, args.host.and_then(HostKind::profile)) {
-            Ok(built) => built,
-            Err(diagnostic) => {
-                diagnostics.push(*diagnostic);
-                return super::fail(&db, &diagnostics, args.planning.message_format, color);
-            }
-        };
-    report(&db, &diagnostics, args.planning.message_format, color);
-    if args.dump_after == Some(BuildDump::Bt) {
-        let _ = std::io::stdout().lock().write_all(crate::ir::bt::print(interner, &timed.pop, &bt).as_bytes());
+    let Some(built) = session.build(&planned, args.host.and_then(HostKind::profile)) else {
+        return super::fail(session.db(), session.diagnostics(), args.planning.message_format, color);
+    };
+    report(session.db(), session.diagnostics(), args.planning.message_format, color);
+    if let Some(pass) = dump.filter(|p| *p > Pass::Task) {
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        let _ = session.dump_planned(pass, &planned, &mut out);
+        let _ = out.flush();
     }
+    let module = built.module;
     let bytes = match args.emit {
         BuildEmit::Bytecode => module.encode(),
         BuildEmit::BtXml => render::bt::xml(&module).into_bytes(),
@@ -197,10 +188,7 @@ fn is_bytecode(path: &Path) -> bool {
 }
 
 pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
-    let mut db = SourceDb::new();
-    let mut diagnostics = Diagnostics::new();
     let format = args.planning.message_format;
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, format, color);
     let sim_only = [
         (!args.fault.is_empty(), "--fault"),
         (args.record.is_some(), "--record"),
@@ -210,57 +198,39 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         eprintln!("error: `{option}` needs the simulated arms (`--host sim`)");
         return ExitCode::from(2);
     }
-    // The first plan's schedule, for the chart of planned versus executed.
-    let mut planned_chart = None;
-    // The program: loaded, or planned and built here (keeping the KB to check the timeline
-    // and the goal, and to replan).
+    // The program: loaded, or planned and built here (keeping the session to check the
+    // timeline and the goal, and to replan).
     let files = &args.planning.files;
-    let (program, frontend, problem, planned) = if files.len() == 1 && is_bytecode(&files[0]) {
+    let (program, session, problem, planned) = if files.len() == 1 && is_bytecode(&files[0]) {
+        let mut diagnostics = Diagnostics::new();
         match load(&files[0], &mut diagnostics) {
             Some(program) => (program, None, 0, None),
-            None => return fail(&db, &diagnostics),
+            None => return super::fail(&SourceDb::new(), &diagnostics, format, color),
         }
     } else {
-        let planned = match plan_and_schedule(&args.planning, color, false) {
+        let Planned { mut session, problem, planned } = match plan_and_schedule(&args.planning, color, None) {
             Ok(planned) => planned,
             Err(status) => return status,
         };
-        diagnostics.extend(planned.diagnostics);
-        db = planned.db;
-        let built = driver::build_bytecode(
-            &planned.frontend.kb,
-            &planned.frontend.interner,
-            &db,
-            &planned.plans[planned.index],
-            &planned.timed,
-            args.host.profile(),
-        );
-        let module = match built {
-            Ok((_, module)) => module,
-            Err(diagnostic) => {
-                diagnostics.push(*diagnostic);
-                return fail(&db, &diagnostics);
-            }
+        let Some(built) = session.build(&planned, args.host.profile()) else {
+            return super::fail(session.db(), session.diagnostics(), format, color);
         };
-        if args.gantt_svg.is_some() {
-            planned_chart = Some((planned.timed.pop.clone(), planned.timed.schedule.clone()));
-        }
-        match Program::load(&module.encode()) {
-            Ok(program) => (program, Some(planned.frontend), planned.problem, Some(planned.timed.schedule.makespan)),
-            Err(error) => panic!("internal compiler error: the generated bytecode does not load: {error}"),
-        }
+        report(session.db(), session.diagnostics(), format, color);
+        let _ = session.take_diagnostics();
+        (built.program(), Some(session), problem, Some(planned))
     };
-    report(&db, &diagnostics, format, color);
     let mut diagnostics = Diagnostics::new();
     let scale = program.module().time_scale as f64;
+    let makespan = planned.as_ref().map(|p| p.timed.schedule.makespan);
+    let mut session = session;
     let sim = match args.host {
         HostKind::Trace => None,
         HostKind::Sim => {
             let config = SimConfig { units_per_second: program.module().time_scale as i64, ..SimConfig::default() };
-            let cells = frontend.as_ref().map(|f| execute::kb_cells(f, problem)).unwrap_or_default();
+            let cells = session.as_mut().map(|s| execute::kb_cells(s, problem)).unwrap_or_default();
             match execute::sim_world(&program, config, &cells) {
                 Ok(world) => {
-                    let horizon = planned.unwrap_or(program.module().time_scale as i64 * 10) as f64 / scale;
+                    let horizon = makespan.unwrap_or(program.module().time_scale as i64 * 10) as f64 / scale;
                     let mut sim = with_faults(world, &args.fault, args.seed, horizon);
                     if args.record.is_some() {
                         sim.record(RECORD_SECONDS);
@@ -272,22 +242,24 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
                         Diagnostic::error(codes::RUN_FAILED, format!("cannot build the simulated world: {error}"))
                             .with_help("the initial state must place every block with `ontable/3` or `on/4` and name the arms with `available/1`"),
                     );
-                    return fail(&db, &diagnostics);
+                    let empty = SourceDb::new();
+                    let db = session.as_ref().map_or(&empty, |s| s.db());
+                    return super::fail(db, &diagnostics, format, color);
                 }
             }
         }
     };
-    match (sim, frontend) {
-        (Some(sim), Some(frontend)) => {
-            let chart = planned_chart.as_ref().map(|(pop, schedule)| (pop, schedule));
-            run_with_recovery(&args, color, db, frontend, problem, program, planned.unwrap_or(0), sim, chart)
+    match (sim, session) {
+        (Some(sim), Some(session)) => {
+            let planned = planned.expect("planned with the session");
+            run_with_recovery(&args, color, session, problem, program, &planned, sim)
         }
-        (sim, frontend) => {
+        (sim, session) => {
             if args.gantt_svg.is_some() {
                 eprintln!("error: `--gantt-svg` needs KB files: a bytecode file carries no plan to compare with");
                 return ExitCode::from(2);
             }
-            run_once(&args, color, db, frontend, problem, program, planned, sim)
+            run_once(&args, color, session, problem, program, makespan, sim)
         }
     }
 }
@@ -428,8 +400,7 @@ fn goal_diagnostic(
 fn run_once(
     args: &RunArgs,
     color: bool,
-    mut db: SourceDb,
-    frontend: Option<driver::Frontend>,
+    session: Option<Session>,
     problem: usize,
     program: Program,
     planned: Option<i64>,
@@ -438,7 +409,10 @@ fn run_once(
     let max_time = args.max_time_units(&program);
     let format = args.planning.message_format;
     let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, format, color);
+    let empty = SourceDb::new();
+    let fail = |session: &Option<Session>, diagnostics: &Diagnostics| {
+        super::fail(session.as_ref().map_or(&empty, |s| s.db()), diagnostics, format, color)
+    };
     let (result, log, world) = match sim {
         None => {
             let mut host = Logged::new(TraceHost::default());
@@ -478,9 +452,9 @@ fn run_once(
         if world.is_some() && !args.fault.is_empty() {
             diagnostics.push(Diagnostic::note("replanning after a fault needs the KB files, not a bytecode file"));
         }
-        return fail(&db, &diagnostics);
+        return fail(&session, &diagnostics);
     }
-    let Some(mut frontend) = frontend else {
+    let Some(mut session) = session else {
         // A bytecode file carries no goal: show the world as it ends.
         if let Some(sim) = &world {
             let (facts, unaccounted) = sim.world().facts();
@@ -495,16 +469,16 @@ fn run_once(
             if !unaccounted.is_empty() {
                 diagnostics
                     .push(Diagnostic::error(codes::GOAL_NOT_REACHED, "some blocks are not on a cell of the table"));
-                return fail(&db, &diagnostics);
+                return fail(&None, &diagnostics);
             }
         }
         return ExitCode::SUCCESS;
     };
     // Planned here (on the trace host): the executed timeline must satisfy the KB.
-    let timeline = execute::check_timeline(&mut frontend, &mut db, problem, &program, &result);
+    let timeline = execute::check_timeline(&mut session, problem, &program, &result);
     if timeline.has_errors() {
         diagnostics.extend(timeline);
-        return fail(&db, &diagnostics);
+        return super::fail(session.db(), &diagnostics, format, color);
     }
     let _ = writeln!(std::io::stdout().lock(), "% the executed timeline is valid for the KB");
     ExitCode::SUCCESS
@@ -516,26 +490,24 @@ fn run_once(
 fn run_with_recovery(
     args: &RunArgs,
     color: bool,
-    mut db: SourceDb,
-    mut frontend: driver::Frontend,
+    mut session: Session,
     problem: usize,
     program: Program,
-    planned: i64,
+    first_plan: &session::Planned,
     sim: kbvm::sim::SimHost,
-    chart: Option<(&crate::ir::pop::Pop, &crate::ir::schedule::Schedule)>,
 ) -> ExitCode {
     let format = args.planning.message_format;
-    let options = || super::plan::search_options(&args.planning);
+    let plan_settings = args.planning.settings();
     let settings = recover::Settings {
         replan: !args.no_replan,
         max_recoveries: args.max_recoveries,
-        options: &options,
-        reassign: super::plan::reassigns_search_plans(&args.planning),
+        plan: &plan_settings,
         profile: ("simulated-arms", kbvm::sim::PRIMITIVES),
         max_time: args.max_time_units(&program),
         max_ticks: args.max_ticks,
     };
-    let execution = recover::execute(&mut frontend, &mut db, problem, program, planned, sim, &settings);
+    let planned = first_plan.timed.schedule.makespan;
+    let execution = recover::execute(&mut session, problem, program, planned, sim, &settings);
     let first = &execution.rounds[0].program;
     let time = |t: i64| first.time_text(t);
     let injected = execution.sim.injected();
@@ -587,18 +559,18 @@ fn run_with_recovery(
     {
         return status;
     }
-    if let (Some(path), Some((pop, schedule))) = (&args.gantt_svg, chart) {
-        let svg = run_chart(&frontend, pop, schedule, &execution);
+    if let Some(path) = &args.gantt_svg {
+        let svg = run_chart(&session, &first_plan.timed.pop, &first_plan.timed.schedule, &execution);
         if let Err(status) = write_output(path, svg.as_bytes()) {
             return status;
         }
     }
-    let (facts, unaccounted) = &execute::world_facts(execution.sim.world(), &mut frontend.interner);
-    let (goal, waived) = recover::waive(&frontend, problem, &execution.sim.world().stopped_arms());
-    let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(&frontend.interner, t, &Default::default());
+    let (facts, unaccounted) = &execute::world_facts(execution.sim.world(), session.interner_mut());
+    let (goal, waived) = recover::waive(&session, problem, &execution.sim.world().stopped_arms());
+    let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(session.interner(), t, &Default::default());
     let waived: Vec<String> = waived.iter().map(|t| format!("`{}`", show(t))).collect();
     let mut diagnostics = Diagnostics::new();
-    let problem_name = |p: usize| frontend.interner.resolve(frontend.kb.problems[p].name).to_string();
+    let interner = session.interner();
     match &execution.verdict {
         recover::Verdict::GoalReached => {
             let mut out = String::from("% the executed timeline is valid for the KB\n");
@@ -620,7 +592,7 @@ fn run_with_recovery(
                 Some(d) => diagnostics.push(d),
                 None => {
                     let unmet = execute::unmet_goals(&goal, facts);
-                    diagnostics.push(goal_diagnostic(&frontend.interner, true, &unmet, facts, unaccounted));
+                    diagnostics.push(goal_diagnostic(interner, true, &unmet, facts, unaccounted));
                 }
             }
             if !settings.replan {
@@ -632,29 +604,20 @@ fn run_with_recovery(
         recover::Verdict::Unrecoverable { why } => {
             diagnostics.push(
                 Diagnostic::error(codes::CANNOT_RECOVER, format!("the goal cannot be reached{after}: {why}"))
-                    .with_note(world_note(&frontend.interner, facts, unaccounted)),
+                    .with_note(world_note(interner, facts, unaccounted)),
             );
         }
-        recover::Verdict::NoPlan { problem: replanned, failure, stats } => {
-            let options = options();
-            let task = crate::passes::task::build(&frontend.kb, *replanned);
-            let search = crate::planner::failure_diagnostic(
-                &frontend.kb,
-                &frontend.interner,
-                &task,
-                &problem_name(*replanned),
-                failure,
-                stats,
-                &super::plan::stats_line(stats),
-                &options,
-            );
+        recover::Verdict::NoPlan { problem: replanned, failed } => {
+            let figures = session::stats_line(&failed.stats);
+            let search = session.search_failure(*replanned, failed, &figures, &plan_settings);
+            let interner = session.interner();
             diagnostics.push(
                 Diagnostic::error(
                     codes::CANNOT_RECOVER,
                     format!("the goal cannot be reached{after}: no plan from the world read back"),
                 )
                 .with_note(format!("the search: {}", search.message))
-                .with_note(world_note(&frontend.interner, facts, unaccounted)),
+                .with_note(world_note(interner, facts, unaccounted)),
             );
         }
         recover::Verdict::NotCompiled(found) => {
@@ -666,14 +629,14 @@ fn run_with_recovery(
         }
         recover::Verdict::InvalidTimeline(found) => diagnostics.extend(found.clone()),
     }
-    super::fail(&db, &diagnostics, format, color)
+    super::fail(session.db(), &diagnostics, format, color)
 }
 
 /// The chart of `--gantt-svg`: per arm, a lane of the first plan's schedule and a lane of
 /// what the arms did (every round, failed actions outlined, halted ones grey), with the
 /// faults marked.
 fn run_chart(
-    frontend: &driver::Frontend,
+    session: &Session,
     pop: &crate::ir::pop::Pop,
     schedule: &crate::ir::schedule::Schedule,
     execution: &recover::Execution,
@@ -687,7 +650,7 @@ fn run_chart(
     }
     let arm_lane = |name: &str| arms.iter().position(|a| a == name);
     let planned_lane = |name: &str| arm_lane(name).map(|i| 2 * i);
-    let mut bars = gantt::schedule_bars(&frontend.interner, &frontend.kb, pop, schedule, &planned_lane);
+    let mut bars = gantt::schedule_bars(session.interner(), session.kb(), pop, schedule, &planned_lane);
     let mut end = schedule.makespan;
     for round in &execution.rounds {
         let mut open: Vec<(kbvm::bytecode::EventId, i64)> = Vec::new();
@@ -717,7 +680,7 @@ fn run_chart(
     let last = execution.rounds.last().expect("at least one round");
     end = end.max(last.offset + last.run.end);
     let marks: Vec<(i64, String)> = execution.sim.injected().to_vec();
-    let name = frontend.interner.resolve(frontend.kb.problems[execution.rounds[0].problem].name);
+    let name = session.interner().resolve(session.kb().problems[execution.rounds[0].problem].name);
     let first = &execution.rounds[0].program;
     let title = format!(
         "{name}: planned makespan {}, executed {} ({})",

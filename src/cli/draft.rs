@@ -8,14 +8,15 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use super::llm::{Client, Endpoint, Retry};
-use super::{FsLoader, MessageFormat, report};
+use super::{MessageFormat, report};
 use crate::diag::{Code, Diagnostics, plural};
 use crate::draft::check::{Checked, Checker, KbFile, Limits, States};
 use crate::draft::eval::{self, Row};
 use crate::draft::repair::{self, Drafted, Ending};
 use crate::draft::{Message, Model, Recorded, Want, prompt};
-use crate::driver::Frontend;
+use crate::session::Session;
 use crate::source::SourceDb;
+use crate::source::fs::FsLoader;
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
@@ -165,7 +166,7 @@ pub(super) fn run(args: DraftArgs, color: bool) -> ExitCode {
 /// Reads KB files (as every command reads its files); unreadable ones become diagnostics.
 fn read_kb(paths: &[PathBuf], diagnostics: &mut Diagnostics) -> Vec<KbFile> {
     let mut db = SourceDb::new();
-    let roots = super::read_roots(paths, &mut db, diagnostics);
+    let roots = crate::source::fs::read_roots(paths, &mut db, diagnostics);
     roots
         .into_iter()
         .map(|id| {
@@ -181,13 +182,13 @@ fn read_kb(paths: &[PathBuf], diagnostics: &mut Diagnostics) -> Vec<KbFile> {
 
 /// The front end on the KB alone: its errors must be fixed before anything is drafted against
 /// it, and are printed (exit status 1) when there are any.
-fn clean_kb(checker: &mut Checker<'_>, format: MessageFormat, color: bool) -> Result<(SourceDb, Frontend), ExitCode> {
-    let (db, frontend) = checker.kb_alone();
-    if frontend.diagnostics.has_errors() {
+fn clean_kb(checker: &mut Checker<'_>, format: MessageFormat, color: bool) -> Result<Session, ExitCode> {
+    let session = checker.kb_alone();
+    if session.has_errors() {
         eprintln!("error: the KB has errors; fix them before drafting against it");
-        return Err(super::fail(&db, &frontend.diagnostics, format, color));
+        return Err(super::fail(session.db(), session.diagnostics(), format, color));
     }
-    Ok((db, frontend))
+    Ok(session)
 }
 
 fn run_check(args: CheckArgs, color: bool) -> ExitCode {
@@ -284,13 +285,13 @@ fn run_ask(args: AskArgs, color: bool) -> ExitCode {
     let want = args.what.want(&args.name);
     let limits = Limits { max_states: args.model.max_states, ..Limits::default() };
     let mut checker = Checker::new(&kb, &mut loader, want.clone(), limits);
-    let (db, frontend) = match clean_kb(&mut checker, args.message_format, color) {
+    let session = match clean_kb(&mut checker, args.message_format, color) {
         Ok(kb) => kb,
         Err(code) => return code,
     };
     let examples = match want {
-        Want::TestCase { .. } => prompt::test_case_examples(&db, &frontend.kb),
-        Want::Actions => prompt::action_examples(&db, &frontend.kb),
+        Want::TestCase { .. } => prompt::test_case_examples(session.db(), session.kb()),
+        Want::Actions => prompt::action_examples(session.db(), session.kb()),
     };
     if examples.is_empty() {
         let what = if want == Want::Actions { "action schemas" } else { "named test cases (`name :- go(...)`)" };
@@ -424,11 +425,11 @@ fn run_eval(args: EvalArgs, color: bool) -> ExitCode {
     let limits = Limits { max_states: args.model.max_states, ..Limits::default() };
     let want = Want::TestCase { name: "test_case".to_string() };
     let mut checker = Checker::new(&kb, &mut loader, want, limits);
-    let (db, frontend) = match clean_kb(&mut checker, MessageFormat::Human, color) {
+    let session = match clean_kb(&mut checker, MessageFormat::Human, color) {
         Ok(kb) => kb,
         Err(code) => return code,
     };
-    let examples = prompt::test_case_examples(&db, &frontend.kb);
+    let examples = prompt::test_case_examples(session.db(), session.kb());
     let cases = match read_cases(dir, &mut checker) {
         Ok(cases) => cases,
         Err(code) => return code,

@@ -7,11 +7,9 @@ use std::process::ExitCode;
 use clap::ValueEnum;
 
 use super::{MessageFormat, report};
-use crate::diag::{Diagnostic, Diagnostics};
-use crate::passes;
-use crate::planner;
+use crate::diag::Diagnostic;
 use crate::render::pddl::{self, Durations};
-use crate::source::SourceDb;
+use crate::session::Session;
 
 #[derive(clap::Subcommand)]
 pub(super) enum ExportCommand {
@@ -63,15 +61,9 @@ enum DurationsArg {
 
 pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
     let ExportCommand::Pddl(args) = command;
-    let mut db = SourceDb::new();
-    let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, args.message_format, color);
-    let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
-    let Some((frontend, problem)) = found else {
-        return fail(&db, &diagnostics);
-    };
-    let program = planner::program_for(&frontend.kb, problem);
-    let mut task = passes::task::build(&frontend.kb, problem);
+    let (mut session, problem) = super::open_for_problem(&args.files, args.problem.as_deref());
+    let fail = |session: &Session| super::fail(session.db(), session.diagnostics(), args.message_format, color);
+    let Some(problem) = problem else { return fail(&session) };
     let options = pddl::Options {
         negative_preconditions: !args.no_negative_preconditions,
         durations: match args.durations {
@@ -80,28 +72,25 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         },
         limit: args.limit,
     };
-    let exported = pddl::export(&frontend.kb, &frontend.interner, &program, &mut task, options, &mut diagnostics);
-    let Some(exported) = exported.filter(|_| !diagnostics.has_errors()) else {
-        return fail(&db, &diagnostics);
-    };
+    let Some(exported) = session.export_pddl(problem, options) else { return fail(&session) };
     if let Err(error) = std::fs::create_dir_all(&args.output) {
-        diagnostics.push(Diagnostic::error(
+        session.push(Diagnostic::error(
             crate::diag::codes::UNREADABLE_FILE,
             format!("cannot create `{}`: {}", args.output.display(), super::io_reason(&error)),
         ));
-        return fail(&db, &diagnostics);
+        return fail(&session);
     }
     let files =
         [("domain.pddl", &exported.domain), ("problem.pddl", &exported.problem), ("names.json", &exported.names)];
     for (name, text) in files {
         let path = args.output.join(name);
         if let Err(error) = super::write_atomically(&path, text.as_bytes()) {
-            report(&db, &diagnostics, args.message_format, color);
+            report(session.db(), session.diagnostics(), args.message_format, color);
             eprintln!("error: cannot write `{}`: {}", path.display(), super::io_reason(&error));
             return ExitCode::from(1);
         }
     }
-    report(&db, &diagnostics, args.message_format, color);
+    report(session.db(), session.diagnostics(), args.message_format, color);
     if args.message_format == MessageFormat::Human {
         eprintln!("wrote {}/{{domain.pddl, problem.pddl, names.json}}", args.output.display());
     }

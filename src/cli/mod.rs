@@ -1,7 +1,7 @@
 //! The `kbc` command line: argument parsing, reading files, printing results.
 //!
-//! This module and `src/lsp` are the only places that do IO. Each subcommand reads its inputs
-//! into a [`SourceDb`], calls the library (`crate::driver`), and prints. Exit status: 0 when
+//! This module and `src/lsp` are the shells around the library: each subcommand opens a
+//! [`Session`] on its files, asks it for the stages it needs, and prints or writes the results. Exit status: 0 when
 //! the input is fine (warnings allowed), 1 when it has errors, 2 for usage errors (clap's
 //! default for bad arguments).
 
@@ -11,12 +11,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::diag::{Diagnostic, Diagnostics, codes, render};
-use crate::driver;
-use crate::ir::hir;
-use crate::passes::load::{LoadedText, SourceLoader};
-use crate::source::{FileId, MAX_FILE_LEN, SourceDb};
-use crate::syntax::printer;
+use crate::diag::{Diagnostics, codes, render};
+use crate::session::{Pass, Session};
+use crate::source::SourceDb;
 
 mod bench;
 mod build;
@@ -118,9 +115,9 @@ struct CheckArgs {
     /// How to print diagnostics: for people, or one JSON object per line on stdout.
     #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
-    /// Print the intermediate representation after this pass on stdout.
+    /// Print the intermediate representation after this pass on stdout (`parse` or `hir`).
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<DumpPass>,
+    dump_after: Option<DumpAfter>,
     /// Treat these findings as errors: `-D warnings` makes every warning an error (exit
     /// status 1), for a KB that must be clean.
     #[arg(short = 'D', long = "deny", value_enum, value_name = "LINT")]
@@ -148,12 +145,42 @@ pub(crate) enum MessageFormat {
     Json,
 }
 
+/// The passes `--dump-after` prints (the same for every subcommand; `kbc check` stops after
+/// `hir`).
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum DumpPass {
+pub(crate) enum DumpAfter {
     /// The syntax tree of every file read.
     Parse,
     /// The resolved knowledge base.
     Hir,
+    /// The planning task the search runs on.
+    Task,
+    /// The partial-order plan: achievers and orderings.
+    Pop,
+    /// The simple temporal network.
+    Stn,
+    /// The schedule: each snap action's earliest and latest time and its slack.
+    Schedule,
+    /// The minimal network: the tightest bounds the STN implies between every pair of time
+    /// points (all-pairs shortest paths; its size grows with the square of the plan's).
+    Minimal,
+    /// The behaviour tree.
+    Bt,
+}
+
+impl DumpAfter {
+    pub(crate) fn pass(self) -> Pass {
+        match self {
+            DumpAfter::Parse => Pass::Parse,
+            DumpAfter::Hir => Pass::Hir,
+            DumpAfter::Task => Pass::Task,
+            DumpAfter::Pop => Pass::Pop,
+            DumpAfter::Stn => Pass::Stn,
+            DumpAfter::Schedule => Pass::Schedule,
+            DumpAfter::Minimal => Pass::Minimal,
+            DumpAfter::Bt => Pass::Bt,
+        }
+    }
 }
 
 /// Runs the command line and returns the process's exit status.
@@ -179,33 +206,7 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// Reads included files from disk.
-pub struct FsLoader;
-
-impl SourceLoader for FsLoader {
-    fn load(&mut self, path: &Path) -> Result<LoadedText, String> {
-        let canonical = std::fs::canonicalize(path).map_err(|e| io_reason(&e))?;
-        let text = read_text(&canonical)?;
-        Ok(LoadedText { canonical, text })
-    }
-}
-
-pub(crate) fn io_reason(error: &std::io::Error) -> String {
-    // "No such file or directory (os error 2)" reads better without the errno.
-    let text = error.to_string();
-    match text.find(" (os error") {
-        Some(at) => text[..at].to_string(),
-        None => text,
-    }
-}
-
-pub(crate) fn read_text(path: &Path) -> Result<String, String> {
-    let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
-    if bytes.len() > MAX_FILE_LEN {
-        return Err("the file is larger than 4 GiB".to_string());
-    }
-    String::from_utf8(bytes).map_err(|e| format!("not valid UTF-8 (byte {})", e.utf8_error().valid_up_to()))
-}
+pub(crate) use crate::source::fs::{io_reason, read_text, unreadable};
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
 /// `path` never holds a half-written file.
@@ -220,75 +221,31 @@ pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()>
 }
 
 /// What commands that work on one problem start with: read the files, run the front end, pick
-/// the problem (`--problem`). `None` when that failed; the reasons are in `diagnostics`.
-pub(crate) fn frontend_for_problem(
-    files: &[PathBuf],
-    problem: Option<&str>,
-    db: &mut SourceDb,
-    diagnostics: &mut Diagnostics,
-) -> Option<(driver::Frontend, usize)> {
-    let roots = read_roots(files, db, diagnostics);
-    let mut frontend = driver::frontend(db, &roots, &mut FsLoader);
-    diagnostics.extend(std::mem::take(&mut frontend.diagnostics));
-    if diagnostics.has_errors() {
-        return None;
-    }
-    match driver::select_problem(&frontend.kb, &frontend.interner, problem) {
-        Ok(problem) => Some((frontend, problem)),
-        Err(diagnostic) => {
-            diagnostics.push(*diagnostic);
-            None
-        }
-    }
-}
-
-/// Reads the command line's files into `db`; unreadable ones become diagnostics.
-pub(crate) fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics) -> Vec<FileId> {
-    let mut roots = Vec::new();
-    for path in paths {
-        match read_text(path) {
-            Ok(text) => {
-                let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
-                roots.push(db.add(path.display().to_string(), Some(canonical), text));
-            }
-            Err(reason) => diags.push(unreadable(path, &reason)),
-        }
-    }
-    roots
-}
-
-/// The diagnostic for a file that cannot be read.
-pub(crate) fn unreadable(path: &Path, reason: &str) -> Diagnostic {
-    Diagnostic::error(codes::UNREADABLE_FILE, format!("cannot read `{}`: {reason}", path.display()))
+/// the problem (`--problem`). The problem is `None` when that failed; the reasons are in the
+/// session's diagnostics.
+pub(crate) fn open_for_problem(files: &[PathBuf], problem: Option<&str>) -> (Session, Option<usize>) {
+    let mut session = Session::open_files(files);
+    let problem = session.problem(problem);
+    (session, problem)
 }
 
 fn check(args: CheckArgs, color: bool) -> ExitCode {
-    let mut db = SourceDb::new();
-    let mut read_errors = Diagnostics::new();
-    let roots = read_roots(&args.files, &mut db, &mut read_errors);
-    let frontend = driver::frontend(&mut db, &roots, &mut FsLoader);
-    let mut diagnostics = read_errors;
-    diagnostics.extend(frontend.diagnostics);
+    if let Some(pass) = args.dump_after.map(DumpAfter::pass).filter(|p| !p.is_frontend()) {
+        eprintln!(
+            "error: `kbc check` stops after `hir`; `--dump-after {}` needs a problem: use `kbc plan` or `kbc build`",
+            pass.name()
+        );
+        return ExitCode::from(2);
+    }
+    let mut session = Session::open_files(&args.files);
     if args.deny.contains(&Lint::Warnings) {
-        diagnostics.deny_warnings();
+        session.deny_warnings();
     }
     if let Some(pass) = args.dump_after {
-        let mut out = std::io::stdout().lock();
-        let text = match pass {
-            DumpPass::Parse => frontend
-                .loaded
-                .files
-                .iter()
-                .map(|ast| {
-                    format!("% {}\n{}", db.file(ast.file).name(), printer::print_source(&frontend.interner, ast))
-                })
-                .collect::<String>(),
-            DumpPass::Hir => hir::print(&frontend.interner, &frontend.kb),
-        };
-        let _ = out.write_all(text.as_bytes());
+        let _ = session.dump_frontend(pass.pass(), &mut std::io::stdout().lock());
     }
-    report(&db, &diagnostics, args.message_format, color);
-    if diagnostics.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }
+    report(session.db(), session.diagnostics(), args.message_format, color);
+    if session.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }
 }
 
 /// Prints the diagnostics and gives exit status 1: how a command ends on errors in its input.

@@ -8,23 +8,20 @@
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 
-use super::{MessageFormat, report};
-use crate::diag::{Diagnostic, Diagnostics};
-use crate::driver;
+use super::{DumpAfter, MessageFormat, report};
 use crate::ir::hir::{self, Kb, VarTable};
 use crate::ir::plan::{self, Plan};
 use crate::ir::pop::Achiever;
 use crate::ir::schedule;
 use crate::ir::stn::{UNITS, format_time};
-use crate::passes;
-use crate::planner::{self, Options, Progress, SearchKind, Stats};
+use crate::planner::{Progress, SearchKind, Stats};
 use crate::render;
-use crate::source::SourceDb;
-use crate::validate;
+use crate::session::{self, Pass, PlanSettings, Session};
 
 /// What finding and scheduling a plan needs; `kbc plan` and `kbc build` share it.
 #[derive(clap::Args)]
@@ -82,10 +79,11 @@ pub(super) struct PlanArgs {
     /// The output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
     format: OutputFormat,
-    /// Print an intermediate representation on stdout first: the planning task, the
-    /// partial-order plan (with the achievers of every step), the STN, or the schedule.
+    /// Print the intermediate representation after this pass on stdout first: the syntax
+    /// tree, the resolved KB, the planning task, the partial-order plan (with the achievers
+    /// of every step), the STN, the schedule, the minimal network or the behaviour tree.
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<PlanDump>,
+    dump_after: Option<DumpAfter>,
     /// Print the timed plan, in the PDDL 2.1 plan format, instead of the total order.
     #[arg(long)]
     schedule: bool,
@@ -96,21 +94,6 @@ pub(super) struct PlanArgs {
     /// Where `--emit` writes (default: stdout).
     #[arg(short, long, value_name = "FILE", requires = "emit")]
     output: Option<PathBuf>,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum PlanDump {
-    /// The planning task the search runs on.
-    Task,
-    /// The partial-order plan: achievers and orderings.
-    Pop,
-    /// The simple temporal network.
-    Stn,
-    /// The schedule: each snap action's earliest and latest time and its slack.
-    Schedule,
-    /// The minimal network: the tightest bounds the STN implies between every pair of time
-    /// points (all-pairs shortest paths; its size grows with the square of the plan's).
-    Minimal,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -163,225 +146,80 @@ impl Progress for TerminalProgress {
     }
 }
 
-/// A plan found (or read), checked and scheduled, with everything that made it.
+/// A plan found (or read), checked and scheduled, in the session that made it.
 pub(super) struct Planned {
-    pub(super) db: SourceDb,
-    pub(super) diagnostics: Diagnostics,
-    pub(super) frontend: driver::Frontend,
+    pub(super) session: Session,
     pub(super) problem: usize,
-    /// Every plan found; `index` is the one kept.
-    pub(super) plans: Vec<Plan>,
-    pub(super) index: usize,
-    pub(super) timed: driver::Timed,
-    /// Where the plan came from, for the output's first line.
-    pub(super) origin: String,
-    pub(super) stats: Option<Stats>,
-    pub(super) task: crate::ir::task::Task,
+    pub(super) planned: Rc<session::Planned>,
 }
 
-/// The search options the arguments ask for; a timeout counts from now.
-pub(super) fn search_options(args: &PlanningArgs) -> Options {
-    let search = match args.search {
-        SearchArg::Paper => SearchKind::Paper,
-        SearchArg::Heuristic => SearchKind::Heuristic,
-    };
-    Options {
-        search,
-        max_depth: args.max_depth,
-        budget: planner::Budget {
-            max_states: args.max_states,
-            deadline: args.timeout.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))),
-            max_bytes: (args.max_memory as usize).saturating_mul(1 << 20),
-            ..planner::Budget::default()
-        },
-        plans: args.retries as usize + 1,
-        improve: args.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
+impl PlanningArgs {
+    /// The session's settings for these arguments.
+    pub(super) fn settings(&self) -> PlanSettings {
+        PlanSettings {
+            search: match self.search {
+                SearchArg::Paper => SearchKind::Paper,
+                SearchArg::Heuristic => SearchKind::Heuristic,
+            },
+            max_depth: self.max_depth,
+            max_states: self.max_states,
+            timeout: self.timeout.map(|s| Duration::from_secs_f64(s.max(0.0))),
+            max_bytes: (self.max_memory as usize).saturating_mul(1 << 20),
+            retries: self.retries as usize,
+            improve: self.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
+            reassign: !self.no_reassign,
+            plan_file: None,
+        }
     }
 }
 
-/// Whether the plans the search finds go through the `reassign` pass: the heuristic search's,
-/// unless `--no-reassign` (for `kbc run`, its replans after a fault too).
-pub(super) fn reassigns_search_plans(args: &PlanningArgs) -> bool {
-    matches!(args.search, SearchArg::Heuristic) && !args.no_reassign
-}
-
-/// Whether the search scores its plans by their makespan after `reassign` (while improving).
-fn scored(args: &PlanningArgs) -> bool {
-    args.plan.is_none() && args.improve.is_some() && reassigns_search_plans(args)
-}
-
-/// Runs the front end, finds (or reads and checks) a plan and schedules it; on failure the
-/// diagnostics are already printed and the exit status is returned.
-pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump_task: bool) -> Result<Planned, ExitCode> {
-    let mut db = SourceDb::new();
-    let mut diagnostics = Diagnostics::new();
-    let fail = |db: &SourceDb, diagnostics: &Diagnostics| super::fail(db, diagnostics, args.message_format, color);
-    let found = super::frontend_for_problem(&args.files, args.problem.as_deref(), &mut db, &mut diagnostics);
-    let Some((mut frontend, problem)) = found else {
-        return Err(fail(&db, &diagnostics));
-    };
-    let program = planner::program_for(&frontend.kb, problem);
-    // The total-order plans to schedule: read from a file, or found by the search.
-    let (mut plans, mut origin, stats, mut task) = match &args.plan {
-        Some(path) => {
-            let plan_file = super::read_roots(std::slice::from_ref(path), &mut db, &mut diagnostics);
-            let Some(&file) = plan_file.first() else { return Err(fail(&db, &diagnostics)) };
-            let text = db.file(file).text_arc();
-            let steps = validate::read_plan(file, &text, &mut frontend.interner, &mut diagnostics);
-            if diagnostics.has_errors() {
-                return Err(fail(&db, &diagnostics));
-            }
-            let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
-            diagnostics.extend(verdict.diagnostics);
-            if diagnostics.has_errors() {
-                return Err(fail(&db, &diagnostics));
-            }
-            let task = passes::task::build(&frontend.kb, problem);
-            (vec![verdict.plan], format!("plan file {}", path.display()), None, task)
-        }
-        None => {
-            let mut task = passes::task::build(&frontend.kb, problem);
-            if cfg!(debug_assertions) {
-                crate::ir::task::verify(&task)
-                    .unwrap_or_else(|e| panic!("internal compiler error: the task verifier failed: {e}"));
-            }
-            if dump_task {
-                let text = crate::ir::task::print(&frontend.interner, &frontend.kb, &task);
-                let _ = std::io::stdout().lock().write_all(text.as_bytes());
-            }
-            let options = search_options(args);
-            let search = options.search;
-            let mut progress = TerminalProgress {
-                started: Instant::now(),
-                enabled: std::io::stderr().is_terminal(),
-                shown: false,
-                drawn: None,
-            };
-            // While improving, plans are judged by the makespan they end up with.
-            let mut scorer =
-                driver::ReassignedMakespan { kb: &frontend.kb, interner: &frontend.interner, program: &program };
-            let scorer = scored(args).then_some(&mut scorer as &mut dyn planner::Score);
-            let outcome =
-                planner::search_scored(&frontend.kb, &frontend.interner, &mut task, &options, scorer, &mut progress);
-            if progress.shown {
-                eprint!("\r{:60}\r", "");
-            }
-            let name = frontend.interner.resolve(frontend.kb.problems[problem].name).to_string();
-            match outcome.result {
-                Ok(first) => {
-                    let mut plans = vec![first];
-                    plans.extend(outcome.alternatives);
-                    let origin = match search {
-                        SearchKind::Paper => "paper search",
-                        SearchKind::Heuristic => "heuristic search",
-                    };
-                    (plans, origin.to_string(), Some(outcome.stats), task)
-                }
-                Err(failure) => {
-                    let (kb, interner) = (&frontend.kb, &frontend.interner);
-                    diagnostics.push(planner::failure_diagnostic(
-                        kb,
-                        interner,
-                        &task,
-                        &name,
-                        &failure,
-                        &outcome.stats,
-                        &stats_line(&outcome.stats),
-                        &options,
-                    ));
-                    return Err(fail(&db, &diagnostics));
-                }
-            }
-        }
-    };
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    // Schedule the plans: with `--improve`, each plan found has a shorter estimated makespan
-    // than the one before, so the best schedule is sought among all of them; otherwise the
-    // first that can be scheduled is kept (`--retries` asks for more when it cannot). The
-    // heuristic search's plans go through the `reassign` pass, which remakes its choice of
-    // arms and order of jobs where that is shorter; the paper's search and plan files are
-    // scheduled as they are.
-    let reassign = args.plan.is_none() && reassigns_search_plans(args);
-    // Plans the search scored come shortest last: the last one that can be scheduled is the one.
-    let order: Vec<usize> = if scored(args) { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
-    // (index, schedule, makespan before `reassign`)
-    let mut chosen: Option<(usize, driver::Timed, i64)> = None;
-    let mut first_failure: Option<Diagnostics> = None;
-    for index in order {
-        let plan = &mut plans[index];
-        if cfg!(debug_assertions) {
-            plan::verify(kb, plan).unwrap_or_else(|e| panic!("internal compiler error: the plan verifier failed: {e}"));
-        }
-        let mut attempt = Diagnostics::new();
-        match driver::schedule(kb, interner, &program, plan, &mut attempt) {
-            Some(timed) => {
-                let searched = timed.schedule.makespan;
-                let timed = if reassign {
-                    let (rearranged, timed) =
-                        driver::reassign(kb, interner, &program, &mut task, std::mem::take(plan), timed);
-                    *plan = rearranged;
-                    timed
-                } else {
-                    timed
-                };
-                let better =
-                    chosen.as_ref().is_none_or(|(_, best, _)| timed.schedule.makespan < best.schedule.makespan);
-                if better {
-                    if chosen.is_none() {
-                        diagnostics.extend(attempt); // warnings, once
-                    }
-                    chosen = Some((index, timed, searched));
-                }
-                if args.improve.is_none() || scored(args) {
-                    break;
-                }
-            }
-            None => {
-                first_failure.get_or_insert(attempt);
-                if !scored(args) && chosen.is_none() && index >= args.retries as usize {
-                    break;
-                }
-            }
-        }
+/// Opens a session on the files, finds (or reads and checks) a plan and schedules it; prints
+/// the IR after `dump` when it comes before the plan (the task, or a front-end pass). On
+/// failure the diagnostics are already printed and the exit status is returned.
+pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump: Option<Pass>) -> Result<Planned, ExitCode> {
+    let (mut session, problem) = super::open_for_problem(&args.files, args.problem.as_deref());
+    let fail = |session: &Session| super::fail(session.db(), session.diagnostics(), args.message_format, color);
+    if let Some(pass) = dump.filter(|p| p.is_frontend()) {
+        let _ = session.dump_frontend(pass, &mut std::io::stdout().lock());
     }
-    let Some((index, timed, searched)) = chosen else {
-        diagnostics.extend(first_failure.unwrap_or_default());
-        if plans.len() > 1 {
-            diagnostics.push(Diagnostic::note(format!(
-                "the search found {} plans and none of them can be scheduled",
-                plans.len()
-            )));
-        }
-        return Err(fail(&db, &diagnostics));
-    };
-    if timed.schedule.makespan < searched {
-        origin = format!("{origin}, jobs reassigned from a makespan of {}", format_time(searched));
+    let Some(problem) = problem else { return Err(fail(&session)) };
+    let mut settings = args.settings();
+    if let Some(path) = &args.plan {
+        let Some(file) = session.read_file(path) else { return Err(fail(&session)) };
+        settings.plan_file = Some(file);
+    } else if dump == Some(Pass::Task) {
+        let _ = session.dump_task(problem, &mut std::io::stdout().lock());
     }
-    Ok(Planned { db, diagnostics, frontend, problem, plans, index, timed, origin, stats, task })
+    let mut progress = TerminalProgress {
+        started: Instant::now(),
+        enabled: std::io::stderr().is_terminal(),
+        shown: false,
+        drawn: None,
+    };
+    let planned = session.plan(problem, &settings, &mut progress);
+    if progress.shown {
+        eprint!("\r{:60}\r", "");
+    }
+    match planned {
+        Ok(planned) => Ok(Planned { session, problem, planned }),
+        Err(_) => Err(fail(&session)),
+    }
 }
 
 pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
-    let dump_task = args.dump_after == Some(PlanDump::Task);
-    let planned = match plan_and_schedule(&args.planning, color, dump_task) {
+    let dump = args.dump_after.map(DumpAfter::pass);
+    let Planned { mut session, problem, planned } = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,
     };
-    let Planned { db, diagnostics, frontend, problem, plans, index, timed, origin, stats, mut task } = planned;
-    let (kb, interner) = (&frontend.kb, &frontend.interner);
-    let plan = &plans[index];
-    match args.dump_after {
-        Some(PlanDump::Pop) => print_out(&crate::ir::pop::print(interner, &timed.pop)),
-        Some(PlanDump::Stn) => print_out(&crate::ir::stn::print(interner, &timed.pop, &timed.stn)),
-        Some(PlanDump::Schedule) => print_out(&schedule::dump(interner, &timed.pop, &timed.schedule)),
-        Some(PlanDump::Minimal) => {
-            let network = passes::schedule::MinimalNetwork::new(&timed.stn, &timed.schedule);
-            let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-            let _ = crate::ir::stn::print_minimal(&timed.stn, |node| network.row(node), &mut out);
-            let _ = out.flush();
-        }
-        _ => {}
+    if let Some(pass) = dump.filter(|p| *p > Pass::Task) {
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        let _ = session.dump_planned(pass, &planned, &mut out);
+        let _ = out.flush();
     }
-    report(&db, &diagnostics, args.planning.message_format, color);
+    report(session.db(), session.diagnostics(), args.planning.message_format, color);
+    let (kb, interner) = (session.kb(), session.interner());
+    let timed = &planned.timed;
     if let Some(emit) = args.emit {
         let text = match emit {
             Emit::PopDot => render::dot::pop(interner, &timed.pop),
@@ -402,11 +240,18 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
         }
     }
     let problem_name = interner.resolve(kb.problems[problem].name).to_string();
-    let figures = Figures::of(&timed, stats.as_ref(), index, plans.len());
+    let figures = Figures::of(timed, planned.stats.as_ref(), planned.index, planned.plans.len());
+    let schedule_text =
+        args.schedule.then(|| schedule_text(interner, kb, timed, &problem_name, &planned.origin, &figures));
+    let origin = &planned.origin;
     let text = match args.format {
-        OutputFormat::Text if args.schedule => schedule_text(interner, kb, &timed, &problem_name, &origin, &figures),
-        OutputFormat::Text => plan_text(interner, kb, &mut task, plan, &problem_name, &origin, &figures, args.trace),
-        OutputFormat::Json => plan_json(kb, interner, plan, &timed, &problem_name, &origin, &figures),
+        OutputFormat::Text if args.schedule => schedule_text.unwrap_or_default(),
+        OutputFormat::Text => {
+            let states = args.trace.then(|| session.states(planned.plan()));
+            let (kb, interner) = (session.kb(), session.interner());
+            plan_text(interner, kb, planned.plan(), states.as_deref(), &problem_name, origin, &figures)
+        }
+        OutputFormat::Json => plan_json(kb, interner, planned.plan(), timed, &problem_name, origin, &figures),
     };
     print_out(&text);
     ExitCode::SUCCESS
@@ -427,7 +272,7 @@ struct Figures {
 }
 
 impl Figures {
-    fn of(timed: &driver::Timed, stats: Option<&Stats>, index: usize, found: usize) -> Figures {
+    fn of(timed: &session::Timed, stats: Option<&Stats>, index: usize, found: usize) -> Figures {
         let sequential = timed.stn.durations.iter().flatten().map(|b| b.min).sum::<i64>();
         Figures { makespan: timed.schedule.makespan, sequential, stats: stats.copied(), kept: (index, found) }
     }
@@ -444,64 +289,40 @@ impl Figures {
         }
         if let Some(stats) = &self.stats {
             line.push_str("; ");
-            line.push_str(&stats_line(stats));
+            line.push_str(&session::stats_line(stats));
         }
         line
     }
 }
 
-/// The process's peak resident memory in bytes (`VmHWM`), where the system reports it.
-fn process_peak_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kilobytes: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
-    Some(kilobytes * 1024)
-}
-
-pub(super) fn stats_line(stats: &Stats) -> String {
-    format!(
-        "expanded {} {}, generated {}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
-        stats.expanded,
-        if stats.expanded == 1 { "state" } else { "states" },
-        stats.generated,
-        stats.evaluated,
-        stats.elapsed.as_secs_f64(),
-        stats.peak_bytes as f64 / 1e6,
-        process_peak_bytes().map_or(String::new(), |b| format!(", process peak {:.1} MB", b as f64 / 1e6))
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
+/// The plan as a plan file; with `states` (the initial state, then the state after each
+/// step), each state as a comment line.
 fn plan_text(
     interner: &crate::intern::Interner,
     kb: &Kb,
-    task: &mut crate::ir::task::Task,
     plan: &Plan,
+    states: Option<&[Vec<hir::Term>]>,
     problem: &str,
     origin: &str,
     figures: &Figures,
-    trace: bool,
 ) -> String {
     let mut out = format!("% plan for {problem} ({origin}): {} snap actions\n", plan.steps.len());
-    if trace {
-        let no_vars = VarTable::default();
-        let states = planner::replay(task, plan);
-        let width = plan.steps.len().to_string().len();
-        let show = |state: &crate::ir::task::State, task: &crate::ir::task::Task| {
-            let mut facts: Vec<String> = state
-                .facts()
-                .map(|f| hir::term_to_string(interner, &task.facts.to_term(&task.consts, f), &no_vars))
-                .collect();
-            facts.sort();
-            format!("[{}]", facts.join(", "))
-        };
-        out.push_str(&format!("% {:>width$}  state: {}\n", "", show(&task.init, task)));
-        for (i, (step, state)) in plan.steps.iter().zip(&states).enumerate() {
-            out.push_str(&format!("{:>width$}  {}\n", i + 1, hir::term_to_string(interner, &step.name, &no_vars)));
-            out.push_str(&format!("% {:>width$}  state: {}\n", "", show(state, task)));
+    match states {
+        Some(states) => {
+            let no_vars = VarTable::default();
+            let width = plan.steps.len().to_string().len();
+            let show = |facts: &[hir::Term]| {
+                let mut facts: Vec<String> = facts.iter().map(|f| hir::term_to_string(interner, f, &no_vars)).collect();
+                facts.sort();
+                format!("[{}]", facts.join(", "))
+            };
+            out.push_str(&format!("% {:>width$}  state: {}\n", "", show(&states[0])));
+            for (i, (step, state)) in plan.steps.iter().zip(&states[1..]).enumerate() {
+                out.push_str(&format!("{:>width$}  {}\n", i + 1, hir::term_to_string(interner, &step.name, &no_vars)));
+                out.push_str(&format!("% {:>width$}  state: {}\n", "", show(state)));
+            }
         }
-    } else {
-        out.push_str(&plan::print(interner, kb, plan));
+        None => out.push_str(&plan::print(interner, kb, plan)),
     }
     out.push_str(&format!("% {}\n", figures.line()));
     out
@@ -510,7 +331,7 @@ fn plan_text(
 fn schedule_text(
     interner: &crate::intern::Interner,
     kb: &Kb,
-    timed: &driver::Timed,
+    timed: &session::Timed,
     problem: &str,
     origin: &str,
     figures: &Figures,
@@ -526,7 +347,7 @@ fn plan_json(
     kb: &Kb,
     interner: &crate::intern::Interner,
     plan: &Plan,
-    timed: &driver::Timed,
+    timed: &session::Timed,
     problem: &str,
     origin: &str,
     figures: &Figures,
@@ -577,7 +398,7 @@ fn plan_json(
             "evaluated": stats.evaluated,
             "seconds": stats.elapsed.as_secs_f64(),
             "stored_bytes": stats.peak_bytes,
-            "process_peak_bytes": process_peak_bytes(),
+            "process_peak_bytes": session::process_peak_bytes(),
         });
     }
     format!("{value}\n")

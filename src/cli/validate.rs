@@ -4,11 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use super::{MessageFormat, report};
-use crate::diag::Diagnostics;
-use crate::driver;
-use crate::planner;
-use crate::source::SourceDb;
-use crate::validate;
+use crate::session::Session;
 
 #[derive(clap::Args)]
 pub(super) struct ValidateArgs {
@@ -29,42 +25,18 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
         eprintln!("error: expected KB files and a plan file");
         return ExitCode::from(2);
     };
-    let mut db = SourceDb::new();
-    let mut diagnostics = Diagnostics::new();
-    let roots = super::read_roots(kb_paths, &mut db, &mut diagnostics);
-    let plan_file = super::read_roots(std::slice::from_ref(plan_path), &mut db, &mut diagnostics);
-    let mut frontend = driver::frontend(&mut db, &roots, &mut super::FsLoader);
-    diagnostics.extend(frontend.diagnostics);
-    if diagnostics.has_errors() {
-        return super::fail(&db, &diagnostics, args.message_format, color);
-    }
-    let kb = &frontend.kb;
-    let problem = match driver::select_problem(kb, &frontend.interner, args.problem.as_deref()) {
-        Ok(problem) => problem,
-        Err(diagnostic) => {
-            diagnostics.push(*diagnostic);
-            return super::fail(&db, &diagnostics, args.message_format, color);
-        }
+    let mut session = Session::open_files(kb_paths);
+    let plan_file = session.read_file(plan_path);
+    let fail = |session: &Session| super::fail(session.db(), session.diagnostics(), args.message_format, color);
+    let (Some(problem), Some(plan_file)) = (session.problem(args.problem.as_deref()), plan_file) else {
+        return fail(&session);
     };
-    let Some(&plan_file) = plan_file.first() else {
-        return super::fail(&db, &diagnostics, args.message_format, color);
-    };
-    let text = db.file(plan_file).text_arc();
-    let steps = validate::read_plan(plan_file, &text, &mut frontend.interner, &mut diagnostics);
-    if diagnostics.has_errors() {
-        return super::fail(&db, &diagnostics, args.message_format, color);
-    }
-    let program = planner::program_for(kb, problem);
+    let Some(steps) = session.read_plan_steps(plan_file) else { return fail(&session) };
     let timed = steps.first().is_some_and(|s| s.timing.is_some());
-    let verdict = if timed {
-        validate::validate_timed(kb, &frontend.interner, &program, problem, &steps)
-    } else {
-        validate::validate(kb, &frontend.interner, &program, problem, &steps)
-    };
-    let problem_name = frontend.interner.resolve(kb.problems[problem].name).to_string();
-    diagnostics.extend(verdict.diagnostics);
-    report(&db, &diagnostics, args.message_format, color);
-    if diagnostics.has_errors() {
+    session.validate(problem, &steps);
+    let problem_name = session.interner().resolve(session.kb().problems[problem].name).to_string();
+    report(session.db(), session.diagnostics(), args.message_format, color);
+    if session.has_errors() {
         return ExitCode::from(1);
     }
     let message = if timed {

@@ -3,18 +3,19 @@
 //! the diagnostics that concern the draft, which the repair loop feeds back to the model.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use super::Want;
 use super::extract::extract_code;
 use super::state::{self, Vocabulary};
 use crate::diag::{Diagnostic, Diagnostics, codes, plural};
-use crate::driver;
 use crate::intern::Interner;
 use crate::ir::hir::{self, Kb, Problem};
 use crate::passes::load::SourceLoader;
-use crate::planner::{self, Budget, Options, SearchKind, Silent};
+use crate::planner::{SearchKind, Silent};
+use crate::session::{Frontend, PlanSettings, Session};
 use crate::source::{FileId, SourceDb, Span};
+use crate::stdlib;
 
 /// A file of the KB a draft is checked against.
 #[derive(Clone, Debug)]
@@ -98,7 +99,7 @@ impl<'a> Checker<'a> {
     pub fn new(kb: &'a [KbFile], loader: &'a mut dyn SourceLoader, want: Want, limits: Limits) -> Checker<'a> {
         let mut checker = Checker { kb, loader, want, limits, extends_std: false };
         if checker.want == Want::Actions {
-            checker.extends_std = checker.kb_alone().1.kb.uses_std_domain;
+            checker.extends_std = checker.kb_alone().kb().uses_std_domain;
         }
         checker
     }
@@ -109,12 +110,11 @@ impl<'a> Checker<'a> {
     }
 
     /// Runs the front end on the KB alone: the KB must be free of errors before a model is
-    /// asked to extend it. Returns the database and the front end's result.
-    pub fn kb_alone(&mut self) -> (SourceDb, driver::Frontend) {
+    /// asked to extend it.
+    pub fn kb_alone(&mut self) -> Session {
         let mut db = SourceDb::new();
         let roots = self.add_kb(&mut db);
-        let frontend = driver::frontend(&mut db, &roots, self.loader);
-        (db, frontend)
+        Session::open(db, roots, self.loader)
     }
 
     fn add_kb(&self, db: &mut SourceDb) -> Vec<FileId> {
@@ -127,8 +127,8 @@ impl<'a> Checker<'a> {
     fn add_kb_for_draft(&self, db: &mut SourceDb) -> Vec<FileId> {
         let mut roots = Vec::new();
         if self.extends_std {
-            roots.push(db.add(driver::STD_ARMS_NAME, None, driver::STD_ARMS));
-            roots.push(db.add(driver::STD_BLOCKS_NAME, None, driver::STD_BLOCKS));
+            roots.push(db.add(stdlib::STD_ARMS_NAME, None, stdlib::STD_ARMS));
+            roots.push(db.add(stdlib::STD_BLOCKS_NAME, None, stdlib::STD_BLOCKS));
         }
         roots.extend(self.add_kb(db));
         roots
@@ -149,8 +149,8 @@ impl<'a> Checker<'a> {
         let mut roots = self.add_kb_for_draft(&mut db);
         let draft = db.add(self.want.file_name(), None, extracted.code.clone());
         roots.push(draft);
-        let frontend = driver::frontend(&mut db, &roots, self.loader);
-        for diagnostic in frontend.diagnostics.iter() {
+        let mut session = Session::open(db, roots, self.loader);
+        for diagnostic in session.diagnostics().iter() {
             let in_draft = diagnostic.labels.iter().any(|l| l.span.file == draft);
             if diagnostic.code.is_some() && (in_draft || diagnostic.labels.is_empty() && diagnostic.is_error()) {
                 let mut diagnostic = diagnostic.clone();
@@ -165,17 +165,19 @@ impl<'a> Checker<'a> {
                 diagnostics.push(diagnostic);
             }
         }
-        let (kb, interner) = (&frontend.kb, &frontend.interner);
-        let mut checked = Checked { db, code: Some(extracted.code), diagnostics, states: None, plan_steps: None };
+        let mut checked =
+            Checked { db: SourceDb::new(), code: Some(extracted.code), diagnostics, states: None, plan_steps: None };
         match &self.want {
             Want::TestCase { name } => {
+                let (kb, interner) = (session.kb(), session.interner());
                 let problem = the_problem(kb, interner, draft, name, &mut checked.diagnostics);
-                only_test_cases(&frontend, kb, draft, &mut checked.diagnostics);
+                only_test_cases(session.hir(), kb, draft, &mut checked.diagnostics);
                 if let Some(index) = problem {
                     checked.states = Some(states_of(interner, &kb.problems[index]));
                     if !checked.diagnostics.has_errors() {
+                        let program = session.program(index);
+                        let (kb, interner) = (session.kb(), session.interner());
                         if let Some(vocabulary) = Vocabulary::of(kb, interner) {
-                            let program = planner::program_for(kb, index);
                             state::check_problem(
                                 &vocabulary,
                                 &kb.problems[index],
@@ -186,12 +188,12 @@ impl<'a> Checker<'a> {
                         }
                     }
                     if !checked.diagnostics.has_errors() {
-                        checked.plan_steps = self.plan(kb, interner, index, &mut checked.diagnostics);
+                        checked.plan_steps = self.plan(&mut session, index, &mut checked.diagnostics);
                     }
                 }
             }
             Want::Actions => {
-                let count = kb.actions.iter().filter(|a| a.span.file == draft).count();
+                let count = session.kb().actions.iter().filter(|a| a.span.file == draft).count();
                 if count == 0 && !checked.diagnostics.has_errors() {
                     checked.diagnostics.push(
                         Diagnostic::error(codes::NOT_ASKED_FOR, "the answer defines no action schema")
@@ -204,34 +206,28 @@ impl<'a> Checker<'a> {
             }
         }
         checked.diagnostics.sort_by_position();
+        checked.db = session.into_parts().0;
         checked
     }
 
-    /// Plans the test case; a failure becomes the planner's diagnostic.
-    fn plan(&self, kb: &Kb, interner: &Interner, index: usize, diagnostics: &mut Diagnostics) -> Option<usize> {
-        let mut task = crate::passes::task::build(kb, index);
-        let options = Options {
+    /// Plans the test case (the search only); a failure becomes the planner's diagnostic.
+    fn plan(&self, session: &mut Session, index: usize, diagnostics: &mut Diagnostics) -> Option<usize> {
+        let settings = PlanSettings {
             search: SearchKind::Heuristic,
-            budget: Budget {
-                max_states: self.limits.max_states,
-                deadline: Some(Instant::now() + self.limits.plan_time),
-                ..Budget::default()
-            },
-            ..Options::default()
+            max_states: self.limits.max_states,
+            timeout: Some(self.limits.plan_time),
+            ..PlanSettings::default()
         };
-        let outcome = planner::search(kb, interner, &mut task, &options, &mut Silent);
-        match outcome.result {
-            Ok(plan) => Some(plan.steps.len()),
-            Err(failure) => {
-                let name = interner.resolve(kb.problems[index].name).to_string();
-                let stats = &outcome.stats;
+        match session.search(index, &settings, &mut Silent) {
+            Ok(searched) => Some(searched.plans[0].steps.len()),
+            Err(failed) => {
+                let stats = &failed.stats;
                 let figures =
                     format!("expanded {}, generated {}", plural(stats.expanded as usize, "state"), stats.generated);
-                let diagnostic =
-                    planner::failure_diagnostic(kb, interner, &task, &name, &failure, stats, &figures, &options);
+                let diagnostic = session.search_failure(index, &failed, &figures, &settings);
                 // A budget or exhaustion message has no place of its own: point at the case.
                 diagnostics.push(if diagnostic.labels.is_empty() {
-                    diagnostic.primary(kb.problems[index].span, "this test case")
+                    diagnostic.primary(session.kb().problems[index].span, "this test case")
                 } else {
                     diagnostic
                 });
@@ -292,7 +288,7 @@ fn the_problem(
 
 /// A test case answer holds test cases and nothing else: no facts, rules or directives that
 /// would change the KB (or run something when the file is consulted by a Prolog system).
-fn only_test_cases(frontend: &driver::Frontend, kb: &Kb, draft: FileId, diagnostics: &mut Diagnostics) {
+fn only_test_cases(frontend: &Frontend, kb: &Kb, draft: FileId, diagnostics: &mut Diagnostics) {
     let Some(ast) = frontend.loaded.files.iter().find(|f| f.file == draft) else { return };
     for clause in &ast.clauses {
         let is_problem =

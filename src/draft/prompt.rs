@@ -4,9 +4,9 @@
 //! diagnostics.
 
 use super::Want;
-use crate::driver::{STD_ARMS_NAME, STD_BLOCKS_NAME};
 use crate::ir::hir::{Kb, Level, ProblemForm};
 use crate::source::{SourceDb, Span};
+use crate::stdlib::{STD_ARMS_NAME, STD_BLOCKS_NAME};
 
 /// The source text of the KB's named test cases (`name :- go(...)`), each with the comment
 /// lines written directly above it, in KB order.

@@ -826,17 +826,13 @@ fn relocate(cell: Cell, offset: u32) -> Cell {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::passes::load::MemoryLoader;
-    use crate::source::SourceDb;
 
-    fn program(text: &str) -> (Program, crate::driver::Frontend) {
-        let mut db = SourceDb::new();
-        let id = db.add("t.pl", None, text);
-        let frontend = crate::driver::frontend(&mut db, &[id], &mut MemoryLoader::default());
+    fn program(text: &str) -> (Program, crate::session::Frontend) {
+        let (_, frontend, _) = crate::session::Session::from_text("t.pl", text).into_parts();
         (Program::new(&frontend.kb, &[]), frontend)
     }
 
-    fn atom(frontend: &mut crate::driver::Frontend, name: &str) -> Cell {
+    fn atom(frontend: &mut crate::session::Frontend, name: &str) -> Cell {
         Cell::Atom(frontend.interner.intern(name))
     }
 

@@ -12,9 +12,10 @@ use lsp_types::{
     NumberOrString, Position, Range, Url,
 };
 
-use crate::diag::{Diagnostic, Severity, codes};
-use crate::driver::{self, Frontend};
+use crate::diag::{Diagnostic, Diagnostics, Severity, codes};
 use crate::passes::load::{LoadedText, SourceLoader};
+use crate::session::{Frontend, Session};
+use crate::source::fs::FsLoader;
 use crate::source::{FileId, SourceDb, Span};
 
 use super::index::Index;
@@ -26,6 +27,8 @@ pub struct Analysis {
     pub db: SourceDb,
     /// The front end's output.
     pub frontend: Frontend,
+    /// The front end's diagnostics, sorted by position.
+    pub diagnostics: Diagnostics,
     /// Where each name occurs.
     pub index: Index,
     /// The root files, in the order they were given.
@@ -63,7 +66,7 @@ impl Analysis {
                 db.add(name, root.path, root.text)
             })
             .collect();
-        let frontend = driver::frontend(&mut db, &root_ids, loader);
+        let (db, frontend, diagnostics) = Session::open(db, root_ids.clone(), loader).into_parts();
         let index = Index::build(&frontend.kb, &frontend.loaded);
         let uris = db
             .ids()
@@ -73,7 +76,7 @@ impl Analysis {
             })
             .collect();
         let line_starts = db.ids().map(|id| position::line_starts(db.text(id))).collect();
-        Analysis { db, frontend, index, roots: root_ids, uris, line_starts }
+        Analysis { db, frontend, diagnostics, index, roots: root_ids, uris, line_starts }
     }
 
     /// The file with this URI, if the unit read it.
@@ -129,7 +132,7 @@ impl Analysis {
     /// the errors and warnings that point nowhere.
     pub fn diagnostics_in(&self, file: FileId) -> impl Iterator<Item = &Diagnostic> {
         let first_root = self.roots.first() == Some(&file);
-        self.frontend.diagnostics.iter().filter(move |d| match d.primary_span() {
+        self.diagnostics.iter().filter(move |d| match d.primary_span() {
             Some(span) => span.file == file,
             None => first_root && d.severity != Severity::Note,
         })
@@ -193,6 +196,6 @@ impl SourceLoader for OverlayLoader<'_> {
         if let Some(text) = (self.open)(&canonical) {
             return Ok(LoadedText { canonical, text });
         }
-        crate::cli::FsLoader.load(path)
+        FsLoader.load(path)
     }
 }

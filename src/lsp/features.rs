@@ -16,11 +16,12 @@ use super::analysis::Analysis;
 use super::index::{Index, Key, Role, indicator};
 use crate::builtins;
 use crate::diag::{codes, plural};
-use crate::driver;
 use crate::intern::{Interner, Symbol};
 use crate::ir::hir::{self, Action, EffectKind, Kb, Level, Snap};
 use crate::passes::load::NoIncludes;
+use crate::session::Session;
 use crate::source::{FileId, SourceDb, Span};
+use crate::stdlib;
 
 /// Hover: what the name under the cursor is, and the explanation of a diagnostic there.
 pub fn hover(analysis: &Analysis, file: FileId, offset: u32) -> Option<Hover> {
@@ -472,9 +473,10 @@ fn std_names() -> &'static [Candidate] {
     static NAMES: OnceLock<Vec<Candidate>> = OnceLock::new();
     NAMES.get_or_init(|| {
         let mut db = SourceDb::new();
-        let arms = db.add(driver::STD_ARMS_NAME, None, driver::STD_ARMS);
-        let blocks = db.add(driver::STD_BLOCKS_NAME, None, driver::STD_BLOCKS);
-        let frontend = driver::frontend(&mut db, &[arms, blocks], &mut NoIncludes);
+        let arms = db.add(stdlib::STD_ARMS_NAME, None, stdlib::STD_ARMS);
+        let blocks = db.add(stdlib::STD_BLOCKS_NAME, None, stdlib::STD_BLOCKS);
+        let session = Session::open(db, vec![arms, blocks], &mut NoIncludes);
+        let frontend = session.hir();
         let index = Index::build(&frontend.kb, &frontend.loaded);
         names(&index, &frontend.kb, &frontend.interner)
     })

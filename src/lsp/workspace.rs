@@ -293,7 +293,7 @@ impl Workspace {
         if let Some((uri, document)) = self.documents.iter().find(|(_, d)| d.path == owned) {
             return Some(RootText { uri: uri.clone(), path: owned, text: document.text.clone() });
         }
-        let text = crate::cli::FsLoader.load(path).ok()?.text;
+        let text = crate::source::fs::FsLoader.load(path).ok()?.text;
         Some(RootText { uri: Url::from_file_path(path).ok()?, path: owned, text })
     }
 

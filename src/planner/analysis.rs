@@ -511,14 +511,10 @@ pub fn explain_unreachable(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::passes::load::MemoryLoader;
-    use crate::source::SourceDb;
 
-    fn task(goals: &str) -> (crate::driver::Frontend, Task) {
-        let mut db = SourceDb::new();
-        let id = db.add("goals.pl", None, goals.to_string());
-        let frontend = crate::driver::frontend(&mut db, &[id], &mut MemoryLoader::default());
-        assert!(!frontend.diagnostics.has_errors(), "{:?}", frontend.diagnostics);
+    fn task(goals: &str) -> (crate::session::Frontend, Task) {
+        let (_, frontend, diagnostics) = crate::session::Session::from_text("goals.pl", goals).into_parts();
+        assert!(!diagnostics.has_errors(), "{diagnostics:?}");
         let task = crate::passes::task::build(&frontend.kb, 0);
         (frontend, task)
     }

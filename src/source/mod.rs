@@ -5,8 +5,10 @@
 //! into every node of every IR. Line and column numbers are computed on demand from a line
 //! index built once per file; they are for people (diagnostics, JSON) and never used by passes.
 //!
-//! The CLI and the language server fill the database; passes only read it. Reading files from
-//! disk is not done here: see `passes::load::SourceLoader`.
+//! The session fills the database (from disk through [`fs`], or from the editor's buffers);
+//! passes only read it, and reach included files through `passes::load::SourceLoader`.
+
+pub mod fs;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -1,0 +1,13 @@
+//! The standard KB library, written in the DSL itself and embedded in the binary.
+
+/// The standard library's multi-arm blocks world, used when the given files declare no actions.
+pub const STD_BLOCKS: &str = include_str!("../std/blocks.pl");
+
+/// The arm-level actions of the simulated arms, loaded with [`STD_BLOCKS`].
+pub const STD_ARMS: &str = include_str!("../std/arms.pl");
+
+/// The name diagnostics show for [`STD_ARMS`].
+pub const STD_ARMS_NAME: &str = "<std>/arms.pl";
+
+/// The name diagnostics show for [`STD_BLOCKS`].
+pub const STD_BLOCKS_NAME: &str = "<std>/blocks.pl";
