@@ -22,7 +22,7 @@ use std::time::Instant;
 use kbc::ir::pop::Reason;
 use kbc::ir::stn::{DurationSource, Edge, EdgeKind, Stn, TimePoint, UNITS};
 use kbc::passes::schedule;
-use kbvm::sim::Rng;
+use kbvm::rng::Rng;
 use petgraph::graph::DiGraph;
 
 const SIZES: &[usize] = &[51, 101, 501, 1001, 2001, 5001, 10001, 20001];

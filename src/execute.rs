@@ -9,9 +9,11 @@
 use std::fmt::Write;
 
 use kbvm::bytecode::{EventId, Instr};
+#[cfg(feature = "sim")]
 use kbvm::sim::{Arg, SimConfig, SimError, SimHost, World, initial_facts, program_cells};
 use kbvm::{Failure, Host, Invocation, Poll, Program, Status, Vm};
 
+#[cfg(feature = "sim")]
 use crate::intern::Interner;
 use crate::ir::hir::Term;
 use crate::ir::unify::unifiable;
@@ -29,6 +31,7 @@ pub trait VirtualHost: Host {
     fn next_completion(&self, now: i64) -> Option<i64>;
 }
 
+#[cfg(feature = "sim")]
 impl VirtualHost for SimHost {
     fn next_completion(&self, now: i64) -> Option<i64> {
         self.next_step().map(|t| t.max(now + 1))
@@ -98,6 +101,7 @@ impl<H: VirtualHost> VirtualHost for Logged<H> {
 
 /// The simulated world built from a program's initial state, laid out around the cells the
 /// program mentions; its table also covers `cells` (where a recovery may put blocks down).
+#[cfg(feature = "sim")]
 pub fn sim_world(program: &Program, config: SimConfig, cells: &[(i64, i64)]) -> Result<World, SimError> {
     let mut world = World::new(config, &initial_facts(program), &program_cells(program))?;
     world.add_cells(cells);
@@ -128,6 +132,7 @@ pub fn kb_cells(session: &mut crate::session::Session, problem: usize) -> Vec<(i
 }
 
 /// The world read back as HIR terms, and the blocks it cannot place.
+#[cfg(feature = "sim")]
 pub fn world_facts(world: &World, interner: &mut Interner) -> (Vec<Term>, Vec<String>) {
     let (facts, unaccounted) = world.facts();
     let terms = facts

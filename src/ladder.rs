@@ -10,7 +10,7 @@
 //!
 //! The table is a grid five cells wide with two more cells than blocks (`cell/2` facts), so a
 //! 20-block problem has 22 cells, as in the issue that asked for the ladder. Which block goes
-//! where is drawn from a seeded generator (SplitMix64, `kbvm::sim::Rng`), so a rung is the same problem on every
+//! where is drawn from a seeded generator (SplitMix64, `kbvm::rng::Rng`), so a rung is the same problem on every
 //! machine. Nothing here does IO; `kbc bench` prints the rows and can write the goal files.
 
 use std::time::{Duration, Instant};
@@ -19,7 +19,7 @@ use crate::planner::{Budget, Failure, SearchKind, Silent};
 use crate::session::{PlanError, PlanSettings, Planned, Session};
 use crate::source::SourceDb;
 use crate::validate;
-use kbvm::sim::Rng;
+use kbvm::rng::Rng;
 
 /// A family of ladder problems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

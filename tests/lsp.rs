@@ -548,7 +548,7 @@ fn edit_by_units(text: &str, a: &Value, b: &Value, insert: &str) -> String {
 }
 
 /// A random position in `text`, sometimes out of range or inside a surrogate pair.
-fn random_position(rng: &mut kbvm::sim::Rng, text: &str) -> Value {
+fn random_position(rng: &mut kbvm::rng::Rng, text: &str) -> Value {
     let lines: Vec<&str> = text.split(['\n', '\r']).collect();
     let line = rng.below(lines.len() + 2);
     let width = lines.get(line).map_or(3, |l| l.encode_utf16().count() + 2);
@@ -566,7 +566,7 @@ fn random_edits_keep_the_server_in_step_with_the_client() {
         &["🤖", "é", "(", ")", ".", "\n", "\r\n", "'", "%", ":-", "[", "]", ",", "!=", "_", "X", "on(a, b).\n", ""];
     let dir = scratch("random");
     let uri = uri(&dir.join("kb.pl"));
-    let mut rng = kbvm::sim::Rng::new(7);
+    let mut rng = kbvm::rng::Rng::new(7);
     let mut client = Client::start(&dir, json!({ "debounceMs": 0 }));
     client.open(&uri, KB);
     client.diagnostics(&uri);
@@ -632,7 +632,7 @@ fn incremental_sync_matches_an_independent_reading_of_positions() {
     let uri = lsp_types::Url::parse("untitled:random.pl").unwrap();
     let mut text = "ab\r\n🤖é\r\n\nxyz".to_string();
     workspace.open(uri.clone(), text.clone(), 1);
-    let mut rng = kbvm::sim::Rng::new(11);
+    let mut rng = kbvm::rng::Rng::new(11);
     for version in 2..3000 {
         let (a, b) = (random_position(&mut rng, &text), random_position(&mut rng, &text));
         let insert: String = (0..rng.below(3)).map(|_| PIECES[rng.below(PIECES.len())]).collect();

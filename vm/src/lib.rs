@@ -58,6 +58,7 @@
 
 pub mod bytecode;
 mod program;
+pub mod rng;
 mod vm;
 
 #[cfg(feature = "sim")]
