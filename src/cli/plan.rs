@@ -398,7 +398,7 @@ fn plan_json(
             "evaluated": stats.evaluated,
             "seconds": stats.elapsed.as_secs_f64(),
             "stored_bytes": stats.peak_bytes,
-            "process_peak_bytes": session::process_peak_bytes(),
+            "process_peak_bytes": crate::source::fs::process_peak_bytes(),
         });
     }
     format!("{value}\n")

@@ -746,14 +746,6 @@ impl Opened {
     }
 }
 
-/// The process's peak resident memory in bytes (`VmHWM`), where the system reports it.
-pub fn process_peak_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kilobytes: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
-    Some(kilobytes * 1024)
-}
-
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
     format!(
@@ -764,6 +756,6 @@ pub fn stats_line(stats: &Stats) -> String {
         stats.evaluated,
         stats.elapsed.as_secs_f64(),
         stats.peak_bytes as f64 / 1e6,
-        process_peak_bytes().map_or(String::new(), |b| format!(", process peak {:.1} MB", b as f64 / 1e6))
+        fs::process_peak_bytes().map_or(String::new(), |b| format!(", process peak {:.1} MB", b as f64 / 1e6))
     )
 }

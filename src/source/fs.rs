@@ -1,5 +1,6 @@
-//! Reading sources from disk: the one place the compiler library opens files (the shells,
-//! `src/cli` and `src/lsp`, print and write).
+//! Reading from the file system: the one place the compiler library opens files (sources, and
+//! the process's peak memory for the search's figures); the shells, `src/cli` and `src/lsp`,
+//! print and write.
 
 use std::path::{Path, PathBuf};
 
@@ -55,4 +56,13 @@ pub fn read_roots(paths: &[PathBuf], db: &mut SourceDb, diags: &mut Diagnostics)
 /// The diagnostic for a file that cannot be read.
 pub fn unreadable(path: &Path, reason: &str) -> Diagnostic {
     Diagnostic::error(codes::UNREADABLE_FILE, format!("cannot read `{}`: {reason}", path.display()))
+}
+
+/// The process's peak resident memory in bytes (`VmHWM` in `/proc/self/status`), where the
+/// system reports it.
+pub fn process_peak_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kilobytes: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kilobytes * 1024)
 }
