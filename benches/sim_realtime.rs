@@ -2,18 +2,19 @@
 //! real time for 4 arms and 20 blocks, release build).
 //!
 //! `cargo bench --bench sim_realtime` plans, schedules and compiles the ladder's three 20-block,
-//! 4-arm problems (not timed), then times `execute::run` of each program on a fresh simulated
+//! 4-arm problems (not timed), then times `kbvm::run::run` of each program on a fresh simulated
 //! world (world construction included), best of three runs in this process, and prints the
 //! simulated makespan, the wall time and their ratio. Each run must reach Success, so a figure
 //! never comes from a run that stopped early.
 
 use std::time::{Duration, Instant};
 
-use kbc::execute::{self, Outcome};
+use kbc::execute;
 use kbc::ladder::{Family, Rung};
 use kbc::planner::Silent;
 use kbc::session::{PlanSettings, Session};
 use kbvm::Program;
+use kbvm::run::{self, Outcome};
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 fn program(rung: &Rung) -> Program {
@@ -34,8 +35,8 @@ fn main() {
         for _ in 0..3 {
             let started = Instant::now();
             let sim = SimHost::new(execute::sim_world(&program, SimConfig::default(), &[]).expect("a world"));
-            let mut host = execute::Logged::new(sim);
-            let run = execute::run(&program, &mut host, 100_000_000, 100_000_000);
+            let mut host = run::Logged::new(sim);
+            let run = run::run(&program, &mut host, 100_000_000, 100_000_000);
             let elapsed = started.elapsed();
             assert_eq!(run.outcome, Outcome::Success, "{}: {:?}", rung.name(), host.log.last());
             best = best.min(elapsed);

@@ -12,17 +12,16 @@
 //! Nothing here does IO: the caller prints the rounds.
 
 use kbvm::Program;
-use kbvm::sim::SimHost;
+use kbvm::sim::{Misplaced, SimHost};
+
+use crate::stdlib::blocks::{self, AVAILABLE, GRIPPED};
 
 use crate::diag::Diagnostics;
-use crate::execute::{self, HostEvent, Logged, Outcome, Run};
+use crate::execute;
 use crate::ir::hir::{Literal, Problem, Term};
 use crate::planner;
 use crate::session::{HostProfile, PlanError, PlanSettings, SearchFailed, Session};
-
-/// The predicates the simulated world reads back; an initial fact of any other predicate is
-/// carried over into a replanned problem unchanged (the world cannot observe it).
-pub const OBSERVED: &[(&str, usize)] = &[("ontable", 3), ("on", 4), ("clear", 1), ("available", 1), ("gripped", 2)];
+use kbvm::run::{self as vm_run, HostEvent, Logged, Outcome, Run};
 
 /// How to run and recover.
 pub struct Settings<'a> {
@@ -123,7 +122,7 @@ pub fn execute(
         let start_world = sorted_facts(sim.world());
         let mut host = Logged::new(sim);
         // The time budget counts on the world's clock, across rounds.
-        let run = execute::run(&program, &mut host, (settings.max_time - offset).max(0), settings.max_ticks);
+        let run = vm_run::run(&program, &mut host, (settings.max_time - offset).max(0), settings.max_ticks);
         let log = host.log;
         sim = host.host;
         // The goal, without what a stopped arm can no longer make true.
@@ -140,7 +139,8 @@ pub fn execute(
                 if unmet.is_empty() && unaccounted.is_empty() {
                     None
                 } else if unmet.is_empty() {
-                    Some(format!("the tree succeeded, but {}", unaccounted.join("; ")))
+                    let lines: Vec<String> = unaccounted.iter().map(Misplaced::to_string).collect();
+                    Some(format!("the tree succeeded, but {}", lines.join("; ")))
                 } else {
                     let show = |t: &Term| crate::ir::hir::term_to_string(session.interner(), t, &Default::default());
                     let unmet: Vec<String> = unmet.iter().map(|t| format!("`{}`", show(t))).collect();
@@ -150,6 +150,8 @@ pub fn execute(
             Outcome::Failure(failure) => Some(failure.describe(&program)),
             Outcome::Stuck => Some("the tree is stuck: it waits for an event no node will record".to_string()),
             Outcome::Budget => Some("the round passed its time or tick budget".to_string()),
+            Outcome::Unlinked(error) => Some(format!("the program does not link with the host: {error}")),
+            _ => Some("the round ended without success".to_string()),
         };
         let mut round = Round {
             problem: round_problem,
@@ -171,7 +173,7 @@ pub fn execute(
             return Execution { rounds, sim, verdict: Verdict::GoalReached };
         };
         let recoveries = rounds.len() as u32;
-        if matches!(round.run.outcome, Outcome::Budget | Outcome::Stuck) {
+        if matches!(round.run.outcome, Outcome::Budget | Outcome::Stuck | Outcome::Unlinked(_)) {
             rounds.push(round);
             let verdict = Verdict::GaveUp { why, considered: false };
             return Execution { rounds, sim, verdict };
@@ -238,7 +240,8 @@ pub fn execute(
 /// The world read back, as sorted text, to compare two moments.
 fn sorted_facts(world: &kbvm::sim::World) -> Vec<String> {
     let (facts, unaccounted) = world.facts();
-    let mut text: Vec<String> = facts.iter().map(|f| f.to_string()).chain(unaccounted).collect();
+    let mut text: Vec<String> =
+        facts.iter().map(|f| f.to_string()).chain(unaccounted.iter().map(Misplaced::to_string)).collect();
     text.sort();
     text
 }
@@ -260,7 +263,7 @@ fn unreachable_goal(
     session: &Session,
     goal: &[Term],
     facts: &[Term],
-    unaccounted: &[String],
+    unaccounted: &[Misplaced],
     sim: &SimHost,
 ) -> Option<String> {
     let interner = session.interner();
@@ -272,17 +275,17 @@ fn unreachable_goal(
             }
         }
     }
-    for line in unaccounted {
-        let name = line.split('`').nth(1).unwrap_or_default();
+    for misplaced in unaccounted {
+        let name = &misplaced.block;
         if goal_atoms.iter().any(|a| a == name) {
-            return Some(format!("the goal needs `{name}`, which no arm can pick up: {line}"));
+            return Some(format!("the goal needs `{name}`, which no arm can pick up: {misplaced}"));
         }
     }
     let stopped = sim.world().stopped_arms();
     for fact in facts {
         if let Term::Compound(name, args) = fact
             && let [Term::Atom(arm), Term::Atom(block)] = &args[..]
-            && interner.resolve(*name) == "gripped"
+            && interner.resolve(*name) == GRIPPED.name
             && stopped.iter().any(|s| s == interner.resolve(*arm))
         {
             let (arm, block) = (interner.resolve(*arm), interner.resolve(*block));
@@ -291,7 +294,7 @@ fn unreachable_goal(
             }
         }
     }
-    let available = facts.iter().any(|f| f.callable().is_some_and(|(n, _)| interner.resolve(n) == "available"));
+    let available = facts.iter().any(|f| f.callable().is_some_and(|(n, _)| interner.resolve(n) == AVAILABLE.name));
     if !available {
         return Some(format!("no arm is left to work: {} stopped", stopped.join(", ")));
     }
@@ -302,7 +305,10 @@ fn unreachable_goal(
 /// back, plus the original initial facts of predicates the world does not observe.
 fn replanned_problem(session: &mut Session, original: usize, facts: &[Term], stopped: &[String]) -> usize {
     let (_, waived) = waive(session, original, stopped);
-    let observed: Vec<(crate::intern::Symbol, usize)> = OBSERVED.iter().map(|&(n, a)| (session.intern(n), a)).collect();
+    // The world observes these; an initial fact of any other predicate is carried over into
+    // the replanned problem unchanged.
+    let observed: Vec<(crate::intern::Symbol, usize)> =
+        blocks::OBSERVED.iter().map(|p| (session.intern(p.name), p.arity)).collect();
     let base = &session.kb().problems[original];
     let span = base.name_span;
     let literal = |term: Term| Literal { term, span, name_span: span };

@@ -11,3 +11,7 @@ pub const STD_ARMS_NAME: &str = "<std>/arms.pl";
 
 /// The name diagnostics show for [`STD_BLOCKS`].
 pub const STD_BLOCKS_NAME: &str = "<std>/blocks.pl";
+
+/// std/blocks.pl's vocabulary: the predicates the simulated arms read and write (defined in
+/// `kbvm`, which never depends on the compiler).
+pub use kbvm::blocks;

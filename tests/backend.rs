@@ -5,9 +5,10 @@
 mod common;
 
 use common::{load, planned};
-use kbc::execute::{self, Outcome, TraceHost};
+use kbc::execute;
 use kbc::session::Session;
 use kbvm::Program;
+use kbvm::run::{self, Outcome, TraceHost};
 
 /// Builds, runs and validates one problem; returns the bytecode and the executed makespan.
 fn build_run_validate(session: &mut Session, problem: usize, what: &str) -> (Vec<u8>, i64) {
@@ -16,7 +17,7 @@ fn build_run_validate(session: &mut Session, problem: usize, what: &str) -> (Vec
     let bytes = built.module.encode();
     let program = Program::load(&bytes).unwrap_or_else(|e| panic!("{what}: the bytecode does not load: {e}"));
     let mut host = TraceHost::default();
-    let run = execute::run(&program, &mut host, 10_000_000, 1_000_000);
+    let run = run::run(&program, &mut host, 10_000_000, 1_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}");
     // Every snap action happened.
     assert!(run.events.iter().all(Option::is_some), "{what}: some events never happened");

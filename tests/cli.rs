@@ -525,3 +525,22 @@ fn run_recovers_from_a_fault_and_records_it() {
     assert_eq!(kbc(&["run", kb, "--fault", "stall:a1:soon"]).status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_bytecode_file_the_host_cannot_run_is_refused_before_it_starts() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("unlinked");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let program = dir.join("paper_schema.kbb");
+    let program = program.to_str().expect("UTF-8 path");
+    // Built for no host in particular: its actions have no arm-level refinement.
+    let built = kbc(&["build", "examples/03_paper_schema/kb.pl", "-o", program]);
+    assert_eq!(built.status.code(), Some(0), "{}", stderr(&built));
+    let on_arms = kbc(&["run", program]);
+    assert_eq!(on_arms.status.code(), Some(1));
+    let text = stderr(&on_arms);
+    assert!(text.contains("error[E0502]: the program does not link with the host"), "{text}");
+    assert!(text.contains("`grip_ontable/2`"), "{text}");
+    assert!(stdout(&on_arms).contains("0 ticks"), "nothing ran: {}", stdout(&on_arms));
+    // The trace host runs any action.
+    assert_eq!(kbc(&["run", program, "--host", "trace"]).status.code(), Some(0));
+}

@@ -61,7 +61,7 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
             (f.starts_with("ontable(") || f.starts_with("on(") || f.starts_with("gripped("))
                 && f.split(['(', ',', ')', ' ']).any(|part| part == block)
         });
-        let reported = unaccounted.iter().any(|u| u.starts_with(&format!("`{block}`")));
+        let reported = unaccounted.iter().any(|u| u.block == *block);
         assert!(placed || reported, "{what}: `{block}` is unaccounted for: {world:?} {unaccounted:?}");
     }
     let (reached, report) = match &execution.verdict {

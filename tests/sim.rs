@@ -5,8 +5,9 @@
 mod common;
 
 use common::{load, planned};
-use kbc::execute::{self, Outcome};
+use kbc::execute;
 use kbc::session::Session;
+use kbvm::run::{self, Outcome};
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
 /// Plans, builds and runs one problem on the simulated arms; returns the read-back facts as
@@ -21,8 +22,8 @@ fn run_physically(session: &mut Session, problem: usize, what: &str) -> (Vec<Str
     let cells = execute::kb_cells(session, problem);
     let world = execute::sim_world(&program, SimConfig::default(), &cells);
     let sim = SimHost::new(world.expect("a world"));
-    let mut host = execute::Logged::new(sim);
-    let run = execute::run(&program, &mut host, 10_000_000, 10_000_000);
+    let mut host = run::Logged::new(sim);
+    let run = run::run(&program, &mut host, 10_000_000, 10_000_000);
     assert_eq!(run.outcome, Outcome::Success, "{what}: {:?}", host.log.last());
     let (facts, unaccounted) = execute::world_facts(host.host.world(), session.interner_mut());
     let show = |t: &kbc::ir::hir::Term| kbc::ir::hir::term_to_string(session.interner(), t, &Default::default());

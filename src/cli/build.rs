@@ -11,12 +11,13 @@ use kbvm::bytecode::MAGIC;
 use super::plan::{Planned, PlanningArgs, plan_and_schedule};
 use super::{DumpAfter, MessageFormat, report};
 use crate::diag::{Diagnostic, Diagnostics, codes};
-use crate::execute::{self, HostEvent, Logged, Outcome, TraceHost};
+use crate::execute;
 use crate::recover;
 use crate::render;
 use crate::session::{self, Pass, Session};
 use crate::source::SourceDb;
 use kbvm::bytecode::Instr;
+use kbvm::run::{self as vm_run, HostEvent, Logged, Outcome, TraceHost};
 use kbvm::sim::{FaultSpec, Rng, SimConfig};
 
 #[derive(clap::Args)]
@@ -326,6 +327,7 @@ fn timeline_entries(program: &Program, offset: i64, log: &[(i64, kbvm::bytecode:
                 HostEvent::Done => ("done", String::new()),
                 HostEvent::Failed(why) => ("FAILED", format!(": {why}")),
                 HostEvent::Halted => ("halted", String::new()),
+                _ => ("other", String::new()),
             };
             (offset + t, format!("{:>9}  {what:<6}  {text}{why}\n", time(offset + t)))
         })
@@ -364,6 +366,12 @@ fn outcome_diagnostic(program: &Program, outcome: &Outcome, end: &str, args: &Ru
             ))
             .with_help("raise `--max-time` if the plan is meant to take longer"),
         ),
+        Outcome::Unlinked(error) => Some(
+            Diagnostic::error(codes::RUN_FAILED, format!("the program does not link with the host: {error}"))
+                .with_note("the program's actions were checked against the host before the first tick")
+                .with_help("build for the host you run on (`kbc build --host sim` names each action the arms cannot run), or run on `--host trace`"),
+        ),
+        _ => Some(Diagnostic::error(codes::RUN_FAILED, format!("the run ended at time {end} without success"))),
     }
 }
 
@@ -373,7 +381,7 @@ fn goal_diagnostic(
     tree_succeeded: bool,
     unmet: &[&crate::ir::hir::Term],
     facts: &[crate::ir::hir::Term],
-    unaccounted: &[String],
+    unaccounted: &[kbvm::sim::Misplaced],
 ) -> Diagnostic {
     let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
     let head = if tree_succeeded { "the tree succeeded, but " } else { "" };
@@ -416,12 +424,12 @@ fn run_once(
     let (result, log, world) = match sim {
         None => {
             let mut host = Logged::new(TraceHost::default());
-            let result = execute::run(&program, &mut host, max_time, args.max_ticks);
+            let result = vm_run::run(&program, &mut host, max_time, args.max_ticks);
             (result, host.log, None)
         }
         Some(sim) => {
             let mut host = Logged::new(sim);
-            let result = execute::run(&program, &mut host, max_time, args.max_ticks);
+            let result = vm_run::run(&program, &mut host, max_time, args.max_ticks);
             (result, host.log, Some(host.host))
         }
     };
@@ -692,7 +700,11 @@ fn run_chart(
 }
 
 /// The world read back, for a note.
-fn world_note(interner: &crate::intern::Interner, facts: &[crate::ir::hir::Term], unaccounted: &[String]) -> String {
+fn world_note(
+    interner: &crate::intern::Interner,
+    facts: &[crate::ir::hir::Term],
+    unaccounted: &[kbvm::sim::Misplaced],
+) -> String {
     let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
     let mut world: Vec<String> = facts.iter().map(show).collect();
     world.extend(unaccounted.iter().map(|u| format!("unaccounted: {u}")));

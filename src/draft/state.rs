@@ -40,10 +40,10 @@ impl Vocabulary {
     /// The vocabulary, when the KB's actions use all of `ontable/3`, `on/4`, `clear/1` and
     /// `available/1` as Valid conditions.
     pub fn of(kb: &Kb, interner: &Interner) -> Option<Vocabulary> {
-        let wanted = [("ontable", 3), ("on", 4), ("clear", 1), ("available", 1)];
+        use crate::stdlib::blocks::{AVAILABLE, CLEAR, ON, ONTABLE};
         let mut found = [None; 4];
-        for (slot, (name, arity)) in found.iter_mut().zip(wanted) {
-            let symbol = interner.get(name)?;
+        for (slot, pred) in found.iter_mut().zip([ONTABLE, ON, CLEAR, AVAILABLE]) {
+            let (symbol, arity) = (interner.get(pred.name)?, pred.arity);
             let used = kb.actions.iter().any(|a| a.valid.iter().any(|l| l.term.callable() == Some((symbol, arity))));
             if used {
                 *slot = Some(symbol);

@@ -73,6 +73,8 @@ fn leaf(module: &Module, starts: &[Option<&Instr>], node: &Instr) -> Option<(Str
             attrs.extend(args(a));
             (import(*i), attrs)
         }
+        // An instruction of a later format version than this writer knows.
+        _ => ("UnknownNode".to_string(), Vec::new()),
     })
 }
 

@@ -3,12 +3,15 @@
 //!     kbc build examples/02_llm_stacking/test_case.pl -o plan.kbb
 //!     cargo run -p kbvm --example embed -- plan.kbb
 //!
-//! The host below pretends to be a robot whose actions take exactly their least duration.
-//! A real one would send each start to its controllers and report back from `poll`.
+//! The host below pretends to be a robot whose actions take exactly their least duration, and
+//! `kbvm::run::run` drives it in virtual time (jumping from one event to the next). A real
+//! robot would send each start to its controllers, report back from `poll`, and call
+//! `Vm::tick` from its own control loop at wall-clock times instead.
 
 use std::collections::BTreeMap;
 
-use kbvm::{Host, Invocation, Poll, Program, Status, Vm};
+use kbvm::run::{Outcome, VirtualHost, run};
+use kbvm::{Host, Invocation, Poll, Program};
 
 /// Running actions by id, with the time each will be done.
 struct Robot {
@@ -16,7 +19,7 @@ struct Robot {
 }
 
 impl Host for Robot {
-    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), kbvm::HostError> {
         println!("{now:>8}  start {}", action.text());
         self.busy.insert(action.id.0, now + action.min());
         Ok(())
@@ -30,13 +33,19 @@ impl Host for Robot {
                 Poll::Success
             }
             Some(_) => Poll::Running,
-            None => Poll::Failure("not started".into()),
+            None => Poll::Failure(kbvm::HostError::NotRunning(format!("`{}` was never started", action.text()))),
         }
     }
 
     fn halt(&mut self, action: &Invocation<'_>, now: i64) {
         println!("{now:>8}  halt  {}", action.text());
         self.busy.remove(&action.id.0);
+    }
+}
+
+impl VirtualHost for Robot {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.busy.values().copied().filter(|&done| done > now).min()
     }
 }
 
@@ -53,19 +62,14 @@ fn main() {
         eprintln!("error: {path}: {e}");
         std::process::exit(1);
     });
-    let mut vm = Vm::new(&program);
     let mut robot = Robot { busy: BTreeMap::new() };
-    // A fixed-rate control loop: a tick every 50 program units (50 ms if a unit is a ms).
-    let mut now = 0;
-    let status = loop {
-        match vm.tick(&mut robot, now) {
-            Status::Running if now < 10_000_000 => now += 50,
-            other => break other,
-        }
-    };
-    match (status, vm.failure()) {
-        (Status::Success, _) => println!("success at {now}"),
-        (_, Some(failure)) => println!("failure: {}", failure.describe(&program)),
-        _ => println!("gave up at {now}"),
+    // Budgets: ten million program units of time, a million ticks.
+    let ran = run(&program, &mut robot, 10_000_000, 1_000_000);
+    match &ran.outcome {
+        Outcome::Success => println!("success at {}", ran.end),
+        Outcome::Failure(failure) => println!("failure: {}", failure.describe(&program)),
+        Outcome::Stuck => println!("stuck at {}: the tree waits for an event nothing records", ran.end),
+        Outcome::Budget => println!("gave up at {}", ran.end),
+        _ => println!("ended at {}", ran.end),
     }
 }

@@ -7,9 +7,23 @@
 //! halts the robot's actions. Time is the `now` argument of [`Vm::tick`]: the VM never reads
 //! a clock.
 //!
+//! The API on one screen:
+//!
+//! - [`Program::load`] reads and verifies a file; [`Program::link`] checks that a host runs
+//!   every action the program starts (or every step of its refinement), like a linker.
+//! - [`Vm::new`] and [`Vm::tick`] run it: each tick takes the time and returns a [`Status`];
+//!   [`Vm::failure`] says which node failed and why ([`Reason`]).
+//! - [`Host`] is the robot side: `start`, `poll` ([`Poll`]), `halt`, and `runs` (what it runs).
+//! - [`run::run`] drives a program in virtual time against a [`run::VirtualHost`] (one that
+//!   can say when it next has news), jumping from event to event; [`run::TraceHost`] completes
+//!   every action after its least duration and [`run::Logged`] records a timeline.
+//! - Features: `encode` (writing bytecode) and `disasm` (listings) are on by default; an
+//!   embedder that only loads and runs programs can turn them off. `sim` adds the simulated
+//!   arms (module `sim`).
+//!
 //! ```
 //! use kbvm::bytecode::{Check, EventId, Import, ImportId, Instr, MaxTime, Module, NodeRef, Time};
-//! use kbvm::{Host, Invocation, Poll, Program, Status, Vm};
+//! use kbvm::{Host, HostError, Invocation, Poll, Program, Status, Vm};
 //!
 //! // A program with one durative action `wave`, taking 2 to 5 time units.
 //! let module = Module {
@@ -33,7 +47,7 @@
 //! // A host whose actions finish 3 time units after they start.
 //! struct Robot { started: i64 }
 //! impl Host for Robot {
-//!     fn start(&mut self, _: &Invocation<'_>, now: i64) -> Result<(), String> {
+//!     fn start(&mut self, _: &Invocation<'_>, now: i64) -> Result<(), HostError> {
 //!         self.started = now;
 //!         Ok(())
 //!     }
@@ -56,14 +70,16 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod blocks;
 pub mod bytecode;
 mod program;
 pub mod rng;
+pub mod run;
 mod vm;
 
 #[cfg(feature = "sim")]
 pub mod sim;
 
 pub use bytecode::{LoadError, Value};
-pub use program::{Location, Program};
-pub use vm::{Failure, Host, Invocation, Poll, Reason, Status, Vm};
+pub use program::{LinkError, Location, Program};
+pub use vm::{Failure, Host, HostError, Invocation, Poll, Reason, Status, Vm};

@@ -36,6 +36,33 @@ pub(crate) struct Action {
     pub(crate) end_refinement: Option<u32>,
 }
 
+/// A program action the host cannot run ([`Program::link`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LinkError {
+    /// The action, as text.
+    pub action: String,
+    /// What the host lacks: `name/arity`.
+    pub missing: String,
+    /// Whether `missing` is a step of the action's refinement (else the action itself).
+    pub refined: bool,
+}
+
+impl std::fmt::Display for LinkError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.refined {
+            write!(f, "`{}` is refined into `{}`, which the host does not run", self.action, self.missing)
+        } else {
+            write!(
+                f,
+                "the host does not run `{}` (`{}`), and the program has no refinement of it",
+                self.missing, self.action
+            )
+        }
+    }
+}
+
+impl std::error::Error for LinkError {}
+
 /// Where a node comes from in the KB, from the debug info.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Location<'p> {
@@ -105,6 +132,31 @@ impl Program {
             }
         }
         Program { module, location, depth, actions, args: all_args, initial_blackboard }
+    }
+
+    /// Links the program against a host, as a linker would, before anything runs: every
+    /// action it starts must be one the host runs, or be refined into steps that all are.
+    /// The first that is not is the error.
+    pub fn link(&self, host: &dyn crate::Host) -> Result<(), LinkError> {
+        for node in &self.module.nodes {
+            let (Instr::Start { event, .. } | Instr::Act { event, .. }) = node else { continue };
+            let steps: Vec<&Call> = self.steps(*event).iter().chain(self.end_steps(*event)).collect();
+            let action = &self.actions[event.0 as usize];
+            let calls: Vec<ImportId> =
+                if steps.is_empty() { vec![ImportId(action.import)] } else { steps.iter().map(|c| c.import).collect() };
+            for import in calls {
+                let arity = usize::from(self.module.imports[import.0 as usize].arity);
+                let name = self.import_name(import);
+                if !host.runs(name, arity) {
+                    return Err(LinkError {
+                        action: self.action_text(*event),
+                        missing: format!("{name}/{arity}"),
+                        refined: !steps.is_empty(),
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The decoded module: tables and nodes.

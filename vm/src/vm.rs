@@ -32,6 +32,7 @@ use crate::program::{Action, Program};
 
 /// What a tick returns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Status {
     /// Not finished: tick again.
     Running,
@@ -43,13 +44,14 @@ pub enum Status {
 
 /// What the host says of an action it runs.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Poll {
     /// Still going.
     Running,
     /// Done.
     Success,
     /// Failed, with the reason.
-    Failure(String),
+    Failure(HostError),
 }
 
 /// An action the VM asks the host to start, poll or halt.
@@ -116,18 +118,73 @@ impl<'p> Invocation<'p> {
     }
 }
 
+/// Why a host refused or failed an action.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum HostError {
+    /// The host does not run the call (an action without a refinement, or a step of one);
+    /// the text says what it runs instead.
+    NotProvided(String),
+    /// A call names something the host does not have.
+    Unknown {
+        /// The call, as text.
+        call: String,
+        /// What kind of thing: `arm`, `block`, ...
+        what: &'static str,
+        /// Its name.
+        name: String,
+    },
+    /// The resource the action needs is busy with another action.
+    Busy {
+        /// The resource (an arm, say).
+        resource: String,
+        /// The action that holds it.
+        holder: EventId,
+    },
+    /// The action's refinement cannot run on this host (its steps need two arms, say).
+    BadRefinement(String),
+    /// The action was polled or halted without running.
+    NotRunning(String),
+    /// The action failed while running: the host's account of what happened.
+    Failed(String),
+}
+
+impl std::fmt::Display for HostError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            HostError::NotProvided(text)
+            | HostError::BadRefinement(text)
+            | HostError::NotRunning(text)
+            | HostError::Failed(text) => f.write_str(text),
+            HostError::Unknown { call, what, name } => write!(f, "`{call}`: there is no {what} `{name}` in the world"),
+            HostError::Busy { resource, holder } => {
+                write!(f, "{resource} is busy with another action (e{})", holder.0)
+            }
+        }
+    }
+}
+
+impl std::error::Error for HostError {}
+
 /// The robot side: runs the actions the tree starts. Times are program time units.
 pub trait Host {
     /// Starts `action`; an error refuses it (its node fails with the message).
-    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String>;
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), HostError>;
     /// Reports on an action started earlier.
     fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll;
     /// Stops an action started earlier that is no longer wanted.
     fn halt(&mut self, action: &Invocation<'_>, now: i64);
+    /// Whether the host runs actions named `name` with `arity` arguments (checked when a
+    /// program is linked, [`Program::link`]); by default it takes any.
+    fn runs(&self, name: &str, arity: usize) -> bool {
+        let _ = (name, arity);
+        true
+    }
 }
 
 /// Why a node failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Reason {
     /// A fluent the node requires does not hold on the blackboard.
     Missing(FluentId),
@@ -136,9 +193,9 @@ pub enum Reason {
     /// None of a group of fluents holds (the group's first is given).
     NoneHolds(FluentId),
     /// The host refused to start the action.
-    Refused(String),
+    Refused(HostError),
     /// The host reported the action failed.
-    HostFailed(String),
+    HostFailed(HostError),
     /// The action ran longer than its greatest duration.
     Overran {
         /// The greatest duration.

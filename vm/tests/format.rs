@@ -199,7 +199,7 @@ proptest! {
 struct Always;
 
 impl kbvm::Host for Always {
-    fn start(&mut self, _: &kbvm::Invocation<'_>, _: i64) -> Result<(), String> {
+    fn start(&mut self, _: &kbvm::Invocation<'_>, _: i64) -> Result<(), kbvm::HostError> {
         Ok(())
     }
     fn poll(&mut self, _: &kbvm::Invocation<'_>, _: i64) -> kbvm::Poll {

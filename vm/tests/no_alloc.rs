@@ -30,7 +30,7 @@ static GLOBAL: Counting = Counting;
 struct Timer;
 
 impl Host for Timer {
-    fn start(&mut self, _: &Invocation<'_>, _: i64) -> Result<(), String> {
+    fn start(&mut self, _: &Invocation<'_>, _: i64) -> Result<(), kbvm::HostError> {
         Ok(())
     }
     fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll {

@@ -28,7 +28,7 @@ impl Scripted {
 }
 
 impl Host for Scripted {
-    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), kbvm::HostError> {
         self.started[action.id.0 as usize] = Some(now);
         self.log.push(format!("start {} {}", action.text(), now));
         Ok(())
@@ -37,7 +37,9 @@ impl Host for Scripted {
         let started = self.started[action.id.0 as usize].expect("polled after start");
         match self.scripts[action.id.0 as usize] {
             Script::SucceedAfter(d) if now >= started + d => Poll::Success,
-            Script::FailAfter(d) if now >= started + d => Poll::Failure("gripper slipped".into()),
+            Script::FailAfter(d) if now >= started + d => {
+                Poll::Failure(kbvm::HostError::Failed("gripper slipped".into()))
+            }
             _ => Poll::Running,
         }
     }
@@ -130,7 +132,10 @@ fn a_host_failure_fails_the_end_node() {
     let mut vm = Vm::new(&p);
     assert_eq!(vm.tick(&mut host, 0), Status::Running);
     assert_eq!(vm.tick(&mut host, 1), Status::Failure);
-    assert_eq!(vm.failure().map(|f| f.reason.clone()), Some(Reason::HostFailed("gripper slipped".into())));
+    assert_eq!(
+        vm.failure().map(|f| f.reason.clone()),
+        Some(Reason::HostFailed(kbvm::HostError::Failed("gripper slipped".into())))
+    );
 }
 
 /// par(seq(start e0, end e1), seq(start e2, end e3))
@@ -257,4 +262,52 @@ fn halt_stops_every_running_action() {
     assert_eq!(host.log.iter().filter(|l| l.starts_with("halt")).count(), 2);
     assert_eq!(vm.tick(&mut host, 8), Status::Failure);
     assert_eq!(vm.failure().map(|f| f.reason.clone()), Some(Reason::Halted));
+}
+
+/// A host that runs only the actions it names.
+struct Picky {
+    inner: kbvm::run::TraceHost,
+    runs: &'static [(&'static str, usize)],
+}
+
+impl Host for Picky {
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), kbvm::HostError> {
+        self.inner.start(action, now)
+    }
+    fn poll(&mut self, action: &Invocation<'_>, now: i64) -> Poll {
+        self.inner.poll(action, now)
+    }
+    fn halt(&mut self, action: &Invocation<'_>, now: i64) {
+        self.inner.halt(action, now);
+    }
+    fn runs(&self, name: &str, arity: usize) -> bool {
+        self.runs.contains(&(name, arity))
+    }
+}
+
+impl kbvm::run::VirtualHost for Picky {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.inner.next_completion(now)
+    }
+}
+
+#[test]
+fn a_run_links_the_program_with_the_host_before_the_first_tick() {
+    use kbvm::run::{Outcome, run};
+    let program = program(
+        vec![Instr::Sequence { children: vec![NodeRef(1), NodeRef(2)] }, start(0, 2, None), end(1, 0)],
+        2,
+        vec![],
+    );
+    // A host that runs `work/0` links and runs it to the end.
+    let mut fine = Picky { inner: Default::default(), runs: &[("work", 0)] };
+    assert!(program.link(&fine).is_ok());
+    assert_eq!(run(&program, &mut fine, 100, 100).outcome, Outcome::Success);
+    // One that does not is refused before anything starts, naming what it lacks.
+    let mut other = Picky { inner: Default::default(), runs: &[("work", 1)] };
+    let error = program.link(&other).expect_err("`work/0` is missing");
+    assert_eq!((error.action.as_str(), error.missing.as_str(), error.refined), ("work", "work/0", false));
+    let ran = run(&program, &mut other, 100, 100);
+    assert_eq!(ran.outcome, Outcome::Unlinked(error));
+    assert_eq!((ran.ticks, ran.events), (0, vec![None, None]), "nothing ran");
 }

@@ -53,7 +53,7 @@ pub fn program(actions: usize) -> Module {
 pub struct Busy;
 
 impl Host for Busy {
-    fn start(&mut self, _: &Invocation<'_>, _: i64) -> Result<(), String> {
+    fn start(&mut self, _: &Invocation<'_>, _: i64) -> Result<(), kbvm::HostError> {
         Ok(())
     }
     fn poll(&mut self, _: &Invocation<'_>, _: i64) -> Poll {

@@ -18,6 +18,7 @@ macro_rules! instructions {
     )*) => {
         /// One node of the behaviour tree, as the bytecode stores it.
         #[derive(Clone, Debug, PartialEq, Eq)]
+        #[non_exhaustive]
         pub enum Instr {
             $(
                 $(#[$doc])*
@@ -45,6 +46,7 @@ macro_rules! instructions {
                 }
             }
 
+            #[cfg(feature = "encode")]
             /// Appends the encoded node: its opcode, then each operand in table order.
             /// `offsets` turns child node indices into code offsets.
             pub(crate) fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
@@ -77,6 +79,7 @@ macro_rules! instructions {
             }
 
             /// The operands as `(name, text)` pairs for the disassembler.
+            #[cfg(feature = "disasm")]
             pub(crate) fn operands(&self, names: &dyn super::operand::Names) -> Vec<(&'static str, String)> {
                 match self {
                     $(Instr::$name { $($field),* } => {

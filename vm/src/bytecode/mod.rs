@@ -7,6 +7,7 @@
 //! is checked against the bytes left before anything is allocated, every index against its
 //! table, every child reference against the node starts, and the nodes must form one tree.
 
+#[cfg(feature = "disasm")]
 mod disasm;
 mod instructions;
 mod operand;
@@ -18,7 +19,9 @@ pub use instructions::Instr;
 use operand::Operand;
 use operand::check_index;
 pub use operand::{Check, Delay, Effect, EventId, FluentId, ImportId, MaxTime, NodeRef, Time, Value};
-use reader::{Reader, put_u16, put_u32};
+use reader::Reader;
+#[cfg(feature = "encode")]
+use reader::{put_u16, put_u32};
 
 /// The four bytes every kbc bytecode file starts with.
 pub const MAGIC: [u8; 4] = *b"KBBC";
@@ -34,6 +37,7 @@ const HEADER_SIZE: usize = 16;
 const SECTION_ENTRY_SIZE: usize = 12;
 const MAX_SECTIONS: usize = 8;
 /// The code section starts with the root's offset, the event count and the time scale.
+#[cfg(feature = "encode")]
 const CODE_HEADER_SIZE: usize = 12;
 
 /// Section kinds, in the order they appear in a file.
@@ -168,6 +172,7 @@ pub struct LoadError {
 
 /// What is wrong with a file.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum LoadErrorKind {
     /// The file does not start with [`MAGIC`].
     BadMagic,
@@ -312,6 +317,7 @@ impl Context {
 
 impl Module {
     /// The bytes of the module. The same module always gives the same bytes.
+    #[cfg(feature = "encode")]
     pub fn encode(&self) -> Vec<u8> {
         // Node offsets: an operand's size does not depend on the offsets it refers to.
         let zeros = vec![0u32; self.nodes.len()];
@@ -601,6 +607,7 @@ impl Module {
     }
 
     /// A readable listing of the module (`kbc disasm`).
+    #[cfg(feature = "disasm")]
     pub fn disassemble(&self) -> String {
         disasm::listing(self)
     }

@@ -1,10 +1,13 @@
 //! Operand types of the instruction table, each with its encoding, decoding, check against
 //! the program's tables, and text for the disassembler.
 
-use super::reader::{Reader, put_i64, put_u32};
+use super::reader::Reader;
+#[cfg(feature = "encode")]
+use super::reader::{put_i64, put_u32};
 use super::{Context, LoadError, LoadErrorKind};
 
 /// What the disassembler needs to print operands by name.
+#[cfg(feature = "disasm")]
 pub(crate) trait Names {
     fn symbol(&self, index: u32) -> String;
     fn fluent(&self, index: u32) -> String;
@@ -15,11 +18,13 @@ pub(crate) trait Names {
 pub(crate) trait Operand: Sized {
     /// The fewest bytes an encoded value takes (bounds list counts before allocating).
     const MIN_SIZE: usize;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]);
     fn decode(reader: &mut Reader<'_>) -> Result<Self, LoadError>;
     /// Checks the value against the tables; a node reference is turned from a code offset
     /// into a node index.
     fn check(&mut self, cx: &Context, at: usize) -> Result<(), LoadError>;
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String;
 }
 
@@ -39,6 +44,7 @@ pub struct NodeRef(pub u32);
 
 impl Operand for NodeRef {
     const MIN_SIZE: usize = 4;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
         put_u32(out, offsets[self.0 as usize]);
     }
@@ -54,6 +60,7 @@ impl Operand for NodeRef {
             None => Err(LoadError::new(at, LoadErrorKind::NotANode { offset: self.0 })),
         }
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, _: &dyn Names) -> String {
         format!("@{}", self.0)
     }
@@ -68,6 +75,7 @@ macro_rules! index_operand {
 
         impl Operand for $name {
             const MIN_SIZE: usize = 4;
+            #[cfg(feature = "encode")]
             fn encode(&self, out: &mut Vec<u8>, _: &[u32]) {
                 put_u32(out, self.0);
             }
@@ -81,6 +89,7 @@ macro_rules! index_operand {
                 }
                 Ok(())
             }
+            #[cfg(feature = "disasm")]
             fn show(&$self_, $names: &dyn Names) -> String {
                 $show
             }
@@ -107,6 +116,7 @@ pub struct Time(pub i64);
 
 impl Operand for Time {
     const MIN_SIZE: usize = 8;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, _: &[u32]) {
         put_i64(out, self.0);
     }
@@ -119,6 +129,7 @@ impl Operand for Time {
         }
         Ok(())
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, _: &dyn Names) -> String {
         self.0.to_string()
     }
@@ -130,6 +141,7 @@ pub struct MaxTime(pub Option<i64>);
 
 impl Operand for MaxTime {
     const MIN_SIZE: usize = 8;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, _: &[u32]) {
         put_i64(out, self.0.unwrap_or(-1));
     }
@@ -144,6 +156,7 @@ impl Operand for MaxTime {
     fn check(&mut self, _: &Context, _: usize) -> Result<(), LoadError> {
         Ok(())
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, _: &dyn Names) -> String {
         self.0.map_or("inf".to_string(), |t| t.to_string())
     }
@@ -160,6 +173,7 @@ pub enum Value {
 
 impl Operand for Value {
     const MIN_SIZE: usize = 5;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, _: &[u32]) {
         match *self {
             Value::Atom(s) => {
@@ -186,6 +200,7 @@ impl Operand for Value {
             _ => Ok(()),
         }
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String {
         match *self {
             Value::Atom(s) => names.symbol(s),
@@ -205,6 +220,7 @@ pub struct Delay {
 
 impl Operand for Delay {
     const MIN_SIZE: usize = 12;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
         self.event.encode(out, offsets);
         self.after.encode(out, offsets);
@@ -216,6 +232,7 @@ impl Operand for Delay {
         self.event.check(cx, at)?;
         self.after.check(cx, at)
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String {
         format!("{}+{}", self.event.show(names), self.after.0)
     }
@@ -232,6 +249,7 @@ pub struct Effect {
 
 impl Operand for Effect {
     const MIN_SIZE: usize = 5;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
         out.push(self.add as u8);
         self.fluent.encode(out, offsets);
@@ -248,6 +266,7 @@ impl Operand for Effect {
     fn check(&mut self, cx: &Context, at: usize) -> Result<(), LoadError> {
         self.fluent.check(cx, at)
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String {
         format!("{}({})", if self.add { "add" } else { "del" }, self.fluent.show(names))
     }
@@ -267,6 +286,7 @@ pub struct Check {
 
 impl Operand for Check {
     const MIN_SIZE: usize = 12;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
         self.require.encode(out, offsets);
         self.forbid.encode(out, offsets);
@@ -280,6 +300,7 @@ impl Operand for Check {
         self.forbid.check(cx, at)?;
         self.any.check(cx, at)
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String {
         let mut parts = Vec::new();
         parts.extend(self.require.iter().map(|f| f.show(names)));
@@ -291,6 +312,7 @@ impl Operand for Check {
 
 impl<T: Operand> Operand for Vec<T> {
     const MIN_SIZE: usize = 4;
+    #[cfg(feature = "encode")]
     fn encode(&self, out: &mut Vec<u8>, offsets: &[u32]) {
         put_u32(out, self.len() as u32);
         for item in self {
@@ -308,6 +330,7 @@ impl<T: Operand> Operand for Vec<T> {
     fn check(&mut self, cx: &Context, at: usize) -> Result<(), LoadError> {
         self.iter_mut().try_for_each(|item| item.check(cx, at))
     }
+    #[cfg(feature = "disasm")]
     fn show(&self, names: &dyn Names) -> String {
         format!("[{}]", self.iter().map(|item| item.show(names)).collect::<Vec<_>>().join(", "))
     }

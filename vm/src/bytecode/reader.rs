@@ -79,14 +79,17 @@ impl<'a> Reader<'a> {
 }
 
 /// Little-endian writing, the encoder's side.
+#[cfg(feature = "encode")]
 pub(crate) fn put_u16(out: &mut Vec<u8>, v: u16) {
     out.extend_from_slice(&v.to_le_bytes());
 }
 
+#[cfg(feature = "encode")]
 pub(crate) fn put_u32(out: &mut Vec<u8>, v: u32) {
     out.extend_from_slice(&v.to_le_bytes());
 }
 
+#[cfg(feature = "encode")]
 pub(crate) fn put_i64(out: &mut Vec<u8>, v: i64) {
     out.extend_from_slice(&v.to_le_bytes());
 }

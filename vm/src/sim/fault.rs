@@ -23,6 +23,7 @@ pub use crate::rng::Rng;
 
 /// The kinds of fault, with what the specification names.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum FaultKindSpec {
     /// A carried block slips.
     Drop {
@@ -52,6 +53,7 @@ pub enum FaultKindSpec {
 
 /// When a fault happens, as specified.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum When {
     /// At this many seconds of simulated time.
     At(f64),
@@ -72,6 +74,7 @@ pub struct FaultSpec {
 
 /// A fault with every part decided.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum FaultKind {
     /// The block arm `.0` carries slips (any arm when `None`).
     Drop(Option<String>),

@@ -17,10 +17,11 @@ mod fault;
 mod world;
 
 pub use fault::{Fault, FaultKind, FaultKindSpec, FaultSpec, FaultSyntaxError, Rng, When};
-pub use world::World;
+pub use world::{Misplaced, Misplacement, World};
 
+use crate::blocks::{ON, ONTABLE};
 use crate::bytecode::Call;
-use crate::{Host, Invocation, Poll, Value};
+use crate::{Host, HostError, Invocation, Poll, Value};
 use world::{Placement, Primitive, Task};
 
 /// The arm-level actions the simulated arms provide: name and arity.
@@ -165,7 +166,8 @@ pub fn program_cells(program: &crate::Program) -> Vec<(i64, i64)> {
     for f in &m.fluents {
         let name = m.symbols[f.functor as usize].as_str();
         let xy = match (name, &f.args[..]) {
-            ("ontable", [_, Value::Int(x), Value::Int(y)]) | ("on", [_, _, Value::Int(x), Value::Int(y)]) => (*x, *y),
+            (name, [_, Value::Int(x), Value::Int(y)]) if name == ONTABLE.name => (*x, *y),
+            (name, [_, _, Value::Int(x), Value::Int(y)]) if name == ON.name => (*x, *y),
             _ => continue,
         };
         cells.push(xy);
@@ -465,7 +467,7 @@ impl SimHost {
 
     /// The primitives of an invocation: its refinement's steps, or the action itself if it
     /// is a primitive; and the arm that runs them.
-    fn primitives(&self, action: &Invocation<'_>, steps: &[Call]) -> Result<(usize, Vec<Primitive>), String> {
+    fn primitives(&self, action: &Invocation<'_>, steps: &[Call]) -> Result<(usize, Vec<Primitive>), HostError> {
         let program = action.program();
         let calls: Vec<(String, Vec<Arg>)> = if steps.is_empty() {
             let args = action.args().iter().map(|&v| arg(program, v)).collect();
@@ -484,16 +486,18 @@ impl SimHost {
                 return Err(not_provided(&text, action));
             };
             let Some(a) = self.world.arm_index(arm_name) else {
-                return Err(format!("`{text}`: there is no arm `{arm_name}` in the world"));
+                return Err(HostError::Unknown { call: text, what: "arm", name: arm_name.clone() });
             };
             if arm.is_some_and(|b| b != a) {
-                return Err(format!("`{}` refines into steps of two arms", action.text()));
+                return Err(HostError::BadRefinement(format!("`{}` refines into steps of two arms", action.text())));
             }
             arm = Some(a);
             let block = |i: usize| match args.get(i) {
-                Some(Arg::Atom(b)) => {
-                    self.world.block_index(b).ok_or_else(|| format!("`{text}`: there is no block `{b}` in the world"))
-                }
+                Some(Arg::Atom(b)) => self.world.block_index(b).ok_or_else(|| HostError::Unknown {
+                    call: text.clone(),
+                    what: "block",
+                    name: b.clone(),
+                }),
                 _ => Err(not_provided(&text, action)),
             };
             let primitive = match (name.as_str(), &args[1..]) {
@@ -517,18 +521,22 @@ fn put_down(block: usize, (x, y): (i64, i64)) -> Vec<Primitive> {
     vec![Primitive::MoveOver(x, y), Primitive::Descend, Primitive::Open(block), Primitive::Lift, Primitive::Home]
 }
 
-fn not_provided(text: &str, action: &Invocation<'_>) -> String {
+fn not_provided(text: &str, action: &Invocation<'_>) -> HostError {
     let known: Vec<String> = PRIMITIVES.iter().map(|(n, a)| format!("{n}/{a}")).collect();
     let what = if action.steps().is_empty() {
         format!("`{text}` has no refinement into arm-level steps and is not")
     } else {
         format!("`{text}` (a step of `{}`) is not", action.text())
     };
-    format!("{what} a primitive of the simulated arms ({})", known.join(", "))
+    HostError::NotProvided(format!("{what} a primitive of the simulated arms ({})", known.join(", ")))
 }
 
 impl Host for SimHost {
-    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), String> {
+    fn runs(&self, name: &str, arity: usize) -> bool {
+        PRIMITIVES.contains(&(name, arity))
+    }
+
+    fn start(&mut self, action: &Invocation<'_>, now: i64) -> Result<(), HostError> {
         self.advance_to(now);
         let (arm, queue) = self.primitives(action, action.steps())?;
         let end_steps = match action.end_steps() {
@@ -536,14 +544,17 @@ impl Host for SimHost {
             steps => {
                 let (end_arm, steps) = self.primitives(action, steps)?;
                 if end_arm != arm {
-                    return Err(format!("`{}` starts on one arm and ends on another", action.text()));
+                    return Err(HostError::BadRefinement(format!(
+                        "`{}` starts on one arm and ends on another",
+                        action.text()
+                    )));
                 }
                 Some(steps)
             }
         };
         let a = &mut self.world.arms[arm];
         if let Some(task) = a.task.as_ref().filter(|t| t.outcome.is_none()) {
-            return Err(format!("{} is busy with another action (e{})", a.name, task.id));
+            return Err(HostError::Busy { resource: a.name.clone(), holder: crate::bytecode::EventId(task.id) });
         }
         a.task = Some(Task { end_steps, ..Task::new(action.id.0, queue) });
         self.world.begin_next(arm);
@@ -565,7 +576,7 @@ impl Host for SimHost {
         self.advance_to(now);
         let Some(index) = self.world.arms.iter().position(|a| a.task.as_ref().is_some_and(|t| t.id == action.id.0))
         else {
-            return Poll::Failure(format!("`{}` is not running on any arm", action.text()));
+            return Poll::Failure(HostError::NotRunning(format!("`{}` is not running on any arm", action.text())));
         };
         let task = self.world.arms[index].task.as_mut().expect("found by its task");
         if task.outcome == Some(Ok(())) && task.end_steps.is_some() {
@@ -584,7 +595,7 @@ impl Host for SimHost {
             }
             Some(Err(why)) => {
                 arm.task = None;
-                Poll::Failure(why)
+                Poll::Failure(HostError::Failed(why))
             }
         }
     }
@@ -596,5 +607,11 @@ impl Host for SimHost {
                 arm.task = None;
             }
         }
+    }
+}
+
+impl crate::run::VirtualHost for SimHost {
+    fn next_completion(&self, now: i64) -> Option<i64> {
+        self.next_step().map(|t| t.max(now + 1))
     }
 }

@@ -16,6 +16,7 @@ use rapier3d::prelude::{
 
 use super::arm::{ArmModel, Joints, Line};
 use super::{Arg, Fact, SimConfig, SimError};
+use crate::blocks::{AVAILABLE, CLEAR, GRIPPED, ON, ONTABLE};
 
 pub(crate) fn to_glam(v: Vector3<f64>) -> Vector {
     Vector::new(v.x as f32, v.y as f32, v.z as f32)
@@ -112,6 +113,38 @@ pub struct World {
     pub(crate) steps: u64,
 }
 
+/// A block the blocks-world facts cannot describe, as [`World::facts`] reports it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Misplaced {
+    /// The block's name.
+    pub block: String,
+    /// Where its centre is, in metres.
+    pub position: [f64; 3],
+    /// Why no fact describes it.
+    pub why: Misplacement,
+}
+
+/// Why a block is [`Misplaced`].
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Misplacement {
+    /// Flat on the table but between cells: an arm can still pick it up.
+    BetweenCells,
+    /// Off the table, leaning, or on nothing: why.
+    Lost(String),
+}
+
+impl std::fmt::Display for Misplaced {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [x, y, z] = self.position;
+        write!(f, "`{}` is at ({x:.3}, {y:.3}, {z:.3}) m, ", self.block)?;
+        match &self.why {
+            Misplacement::BetweenCells => f.write_str("on the table between cells"),
+            Misplacement::Lost(why) => f.write_str(why),
+        }
+    }
+}
+
 /// Where a block is, as the read-back sees it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Placement {
@@ -141,15 +174,15 @@ impl World {
         let mut arm_names: Vec<String> = Vec::new();
         for fact in facts {
             match (fact.name.as_str(), &fact.args[..]) {
-                ("ontable", [Arg::Atom(b), Arg::Int(x), Arg::Int(y)]) => {
+                (name, [Arg::Atom(b), Arg::Int(x), Arg::Int(y)]) if name == ONTABLE.name => {
                     on_table.insert(b.clone(), (*x, *y));
                     cells.push((*x, *y));
                 }
-                ("on", [Arg::Atom(b), Arg::Atom(below), Arg::Int(x), Arg::Int(y)]) => {
+                (name, [Arg::Atom(b), Arg::Atom(below), Arg::Int(x), Arg::Int(y)]) if name == ON.name => {
                     on_block.insert(b.clone(), below.clone());
                     cells.push((*x, *y));
                 }
-                ("available", [Arg::Atom(a)]) if !arm_names.contains(a) => arm_names.push(a.clone()),
+                (name, [Arg::Atom(a)]) if name == AVAILABLE.name && !arm_names.contains(a) => arm_names.push(a.clone()),
                 _ => {}
             }
         }
@@ -682,7 +715,7 @@ impl World {
     /// `available/1` for every arm that holds nothing and has not stopped, `gripped/2` for
     /// held blocks; and a line for each block that is none of these (loose between cells,
     /// fallen off the table, tipped over).
-    pub fn facts(&self) -> (Vec<Fact>, Vec<String>) {
+    pub fn facts(&self) -> (Vec<Fact>, Vec<Misplaced>) {
         let atom = |s: &str| Arg::Atom(s.to_string());
         let mut facts = Vec::new();
         let mut unaccounted = Vec::new();
@@ -690,37 +723,33 @@ impl World {
         let mut resting = Vec::new();
         for (i, block) in self.blocks.iter().enumerate() {
             let p = self.block_position(i);
+            let misplaced = |why: Misplacement| Misplaced { block: block.name.clone(), position: [p.x, p.y, p.z], why };
             match self.placement(i) {
                 Placement::Held(arm) => {
-                    facts.push(Fact::new("gripped", vec![atom(&self.arms[arm].name), atom(&block.name)]));
+                    facts.push(Fact::new(GRIPPED.name, vec![atom(&self.arms[arm].name), atom(&block.name)]));
                 }
                 Placement::OnTable(x, y) => {
-                    facts.push(Fact::new("ontable", vec![atom(&block.name), Arg::Int(x), Arg::Int(y)]));
+                    facts.push(Fact::new(ONTABLE.name, vec![atom(&block.name), Arg::Int(x), Arg::Int(y)]));
                     resting.push(i);
                 }
                 Placement::On(j, x, y) => {
                     covered[j] = true;
                     let args = vec![atom(&block.name), atom(&self.blocks[j].name), Arg::Int(x), Arg::Int(y)];
-                    facts.push(Fact::new("on", args));
+                    facts.push(Fact::new(ON.name, args));
                     resting.push(i);
                 }
-                Placement::Loose => unaccounted.push(format!(
-                    "`{}` is at ({:.3}, {:.3}, {:.3}) m, on the table between cells",
-                    block.name, p.x, p.y, p.z
-                )),
-                Placement::Lost(why) => {
-                    unaccounted.push(format!("`{}` is at ({:.3}, {:.3}, {:.3}) m, {why}", block.name, p.x, p.y, p.z))
-                }
+                Placement::Loose => unaccounted.push(misplaced(Misplacement::BetweenCells)),
+                Placement::Lost(why) => unaccounted.push(misplaced(Misplacement::Lost(why))),
             }
         }
         for i in resting {
             if !covered[i] {
-                facts.push(Fact::new("clear", vec![atom(&self.blocks[i].name)]));
+                facts.push(Fact::new(CLEAR.name, vec![atom(&self.blocks[i].name)]));
             }
         }
         for arm in &self.arms {
             if arm.holding.is_none() && !arm.stopped {
-                facts.push(Fact::new("available", vec![atom(&arm.name)]));
+                facts.push(Fact::new(AVAILABLE.name, vec![atom(&arm.name)]));
             }
         }
         (facts, unaccounted)
