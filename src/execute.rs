@@ -6,7 +6,9 @@ use std::fmt::Write;
 
 use kbvm::Program;
 use kbvm::bytecode::Instr;
-use kbvm::run::Run;
+use kbvm::run::{Outcome, Run};
+
+use crate::diag::{Diagnostic, codes};
 #[cfg(feature = "sim")]
 use kbvm::sim::{Arg, Misplaced, SimConfig, SimError, World, initial_facts, program_cells};
 
@@ -138,4 +140,87 @@ pub fn check_timeline(
         diagnostics.push(crate::diag::Diagnostic::note("the executed timeline breaks the KB: this is a compiler bug"));
     }
     diagnostics
+}
+
+/// A run's budget as the user gave it (`--max-time` in KB time units, `--max-ticks`), for
+/// the diagnostic that says it ran out.
+#[derive(Clone, Copy, Debug)]
+pub struct RunBudget {
+    /// The most time, in KB time units.
+    pub max_time: f64,
+    /// The most ticks.
+    pub max_ticks: u64,
+}
+
+/// A run's failure as a diagnostic (E0502): the tree failed, got stuck, ran out of budget or
+/// did not link with the host; `None` when it succeeded. `end` is the time it stopped.
+pub fn outcome_diagnostic(program: &Program, outcome: &Outcome, end: &str, budget: RunBudget) -> Option<Diagnostic> {
+    match outcome {
+        Outcome::Success => None,
+        Outcome::Failure(failure) => Some(Diagnostic::error(codes::RUN_FAILED, failure.describe(program))),
+        Outcome::Stuck => Some(
+            Diagnostic::error(
+                codes::RUN_FAILED,
+                format!("the tree is stuck at time {end}: it waits for an event no node will record"),
+            )
+            .with_help("the program is malformed; rebuild it with `kbc build`"),
+        ),
+        Outcome::Budget => Some(
+            Diagnostic::error(
+                codes::RUN_FAILED,
+                format!("the run stopped at time {end} without finishing: it passed its budget"),
+            )
+            .with_note(format!(
+                "the budget: {} time units (`--max-time`), {} ticks (`--max-ticks`)",
+                budget.max_time, budget.max_ticks
+            ))
+            .with_help("raise `--max-time` if the plan is meant to take longer"),
+        ),
+        Outcome::Unlinked(error) => Some(
+            Diagnostic::error(codes::RUN_FAILED, format!("the program does not link with the host: {error}"))
+                .with_note("the program's actions were checked against the host before the first tick")
+                .with_help(
+                    "build for the host you run on (`kbc build --host sim` names each action the arms cannot run), \
+                     or run on `--host trace`",
+                ),
+        ),
+        _ => Some(Diagnostic::error(codes::RUN_FAILED, format!("the run ended at time {end} without success"))),
+    }
+}
+
+/// E0505: the goal literals the world lacks, the blocks not on a cell, the world.
+#[cfg(feature = "sim")]
+pub fn goal_diagnostic(
+    interner: &Interner,
+    tree_succeeded: bool,
+    unmet: &[&Term],
+    facts: &[Term],
+    unaccounted: &[Misplaced],
+) -> Diagnostic {
+    let show = |t: &Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
+    let head = if tree_succeeded { "the tree succeeded, but " } else { "" };
+    let mut diagnostic = Diagnostic::error(
+        codes::GOAL_NOT_REACHED,
+        match unmet.len() {
+            0 => format!("{head}some blocks are not on a cell of the table"),
+            1 => format!("{head}a goal literal does not hold in the world"),
+            n => format!("{head}{n} goal literals do not hold in the world"),
+        },
+    );
+    for g in unmet {
+        diagnostic = diagnostic.with_note(format!("not in the world: `{}`", show(g)));
+    }
+    for u in unaccounted {
+        diagnostic = diagnostic.with_note(format!("unaccounted: {u}"));
+    }
+    diagnostic.with_note(world_note(interner, facts, &[]))
+}
+
+/// The world read back, for a note.
+#[cfg(feature = "sim")]
+pub fn world_note(interner: &Interner, facts: &[Term], unaccounted: &[Misplaced]) -> String {
+    let show = |t: &Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
+    let mut world: Vec<String> = facts.iter().map(show).collect();
+    world.extend(unaccounted.iter().map(|u| format!("unaccounted: {u}")));
+    format!("the world read back: {}", world.join(", "))
 }

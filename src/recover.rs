@@ -321,3 +321,79 @@ fn replanned_problem(session: &mut Session, original: usize, facts: &[Term], sto
     let name = session.intern(&name);
     session.add_problem(Problem { name, init, goal, ..base })
 }
+
+impl Execution {
+    /// Why the execution did not reach the goal, as diagnostics (none when it did): the
+    /// last round's failure or the goal literals the world lacks, why it was not recovered
+    /// from, or why recovering was impossible (E0502, E0505, E0506).
+    pub fn diagnostics(
+        &self,
+        session: &mut Session,
+        problem: usize,
+        settings: &Settings<'_>,
+        budget: execute::RunBudget,
+    ) -> Diagnostics {
+        use crate::diag::{Diagnostic, codes};
+        let mut diagnostics = Diagnostics::new();
+        let (facts, unaccounted) = &execute::world_facts(self.sim.world(), session.interner_mut());
+        let (goal, _) = waive(session, problem, &self.sim.world().stopped_arms());
+        let after = match self.rounds.len() - 1 {
+            0 => String::new(),
+            1 => " after 1 recovery".to_string(),
+            n => format!(" after {n} recoveries"),
+        };
+        let last = self.rounds.last().expect("at least one round");
+        match &self.verdict {
+            Verdict::GoalReached => {}
+            Verdict::GaveUp { why, considered } => {
+                let program = &last.program;
+                let end_round = program.time_text(last.run.end);
+                match execute::outcome_diagnostic(program, &last.run.outcome, &end_round, budget) {
+                    Some(d) => diagnostics.push(d),
+                    None => {
+                        let unmet = execute::unmet_goals(&goal, facts);
+                        diagnostics.push(execute::goal_diagnostic(
+                            session.interner(),
+                            true,
+                            &unmet,
+                            facts,
+                            unaccounted,
+                        ));
+                    }
+                }
+                if !settings.replan {
+                    diagnostics.push(Diagnostic::note("not replanned: replanning is off (`--no-replan`)"));
+                } else if *considered {
+                    diagnostics.push(Diagnostic::note(format!("not replanned: {why}")));
+                }
+            }
+            Verdict::Unrecoverable { why } => {
+                diagnostics.push(
+                    Diagnostic::error(codes::CANNOT_RECOVER, format!("the goal cannot be reached{after}: {why}"))
+                        .with_note(execute::world_note(session.interner(), facts, unaccounted)),
+                );
+            }
+            Verdict::NoPlan { problem: replanned, failed } => {
+                let figures = crate::session::stats_line(&failed.stats);
+                let search = session.search_failure(*replanned, failed, &figures, settings.plan);
+                diagnostics.push(
+                    Diagnostic::error(
+                        codes::CANNOT_RECOVER,
+                        format!("the goal cannot be reached{after}: no plan from the world read back"),
+                    )
+                    .with_note(format!("the search: {}", search.message))
+                    .with_note(execute::world_note(session.interner(), facts, unaccounted)),
+                );
+            }
+            Verdict::NotCompiled(found) => {
+                diagnostics.extend(found.clone());
+                diagnostics.push(Diagnostic::error(
+                    codes::CANNOT_RECOVER,
+                    format!("the goal cannot be reached{after}: the plan from the world read back does not compile"),
+                ));
+            }
+            Verdict::InvalidTimeline(found) => diagnostics.extend(found.clone()),
+        }
+        diagnostics
+    }
+}

@@ -91,6 +91,11 @@ pub(super) struct RunArgs {
 }
 
 impl RunArgs {
+    /// The run's budget as given.
+    fn budget(&self) -> execute::RunBudget {
+        execute::RunBudget { max_time: self.max_time, max_ticks: self.max_ticks }
+    }
+
     /// `--max-time` in the program's time units.
     fn max_time_units(&self, program: &Program) -> i64 {
         (self.max_time * program.module().time_scale as f64).min(i64::MAX as f64 / 2.0) as i64
@@ -343,65 +348,6 @@ fn fault_entries(program: &Program, injected: &[(i64, String)], from: i64, to: O
         .collect()
 }
 
-/// A round's failure as a diagnostic: the tree failed, got stuck or ran out of budget.
-fn outcome_diagnostic(program: &Program, outcome: &Outcome, end: &str, args: &RunArgs) -> Option<Diagnostic> {
-    match outcome {
-        Outcome::Success => None,
-        Outcome::Failure(failure) => Some(Diagnostic::error(codes::RUN_FAILED, failure.describe(program))),
-        Outcome::Stuck => Some(
-            Diagnostic::error(
-                codes::RUN_FAILED,
-                format!("the tree is stuck at time {end}: it waits for an event no node will record"),
-            )
-            .with_help("the program is malformed; rebuild it with `kbc build`"),
-        ),
-        Outcome::Budget => Some(
-            Diagnostic::error(
-                codes::RUN_FAILED,
-                format!("the run stopped at time {end} without finishing: it passed its budget"),
-            )
-            .with_note(format!(
-                "the budget: {} time units (`--max-time`), {} ticks (`--max-ticks`)",
-                args.max_time, args.max_ticks
-            ))
-            .with_help("raise `--max-time` if the plan is meant to take longer"),
-        ),
-        Outcome::Unlinked(error) => Some(
-            Diagnostic::error(codes::RUN_FAILED, format!("the program does not link with the host: {error}"))
-                .with_note("the program's actions were checked against the host before the first tick")
-                .with_help("build for the host you run on (`kbc build --host sim` names each action the arms cannot run), or run on `--host trace`"),
-        ),
-        _ => Some(Diagnostic::error(codes::RUN_FAILED, format!("the run ended at time {end} without success"))),
-    }
-}
-
-/// E0505: the goal literals the world lacks, the blocks not on a cell, the world.
-fn goal_diagnostic(
-    interner: &crate::intern::Interner,
-    tree_succeeded: bool,
-    unmet: &[&crate::ir::hir::Term],
-    facts: &[crate::ir::hir::Term],
-    unaccounted: &[kbvm::sim::Misplaced],
-) -> Diagnostic {
-    let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
-    let head = if tree_succeeded { "the tree succeeded, but " } else { "" };
-    let mut diagnostic = Diagnostic::error(
-        codes::GOAL_NOT_REACHED,
-        match unmet.len() {
-            0 => format!("{head}some blocks are not on a cell of the table"),
-            1 => format!("{head}a goal literal does not hold in the world"),
-            n => format!("{head}{n} goal literals do not hold in the world"),
-        },
-    );
-    for g in unmet {
-        diagnostic = diagnostic.with_note(format!("not in the world: `{}`", show(g)));
-    }
-    for u in unaccounted {
-        diagnostic = diagnostic.with_note(format!("unaccounted: {u}"));
-    }
-    diagnostic.with_note(world_note(interner, facts, &[]))
-}
-
 /// Runs a program once: on the trace host, or on the simulated arms without replanning (a
 /// bytecode file carries no KB to replan with).
 #[allow(clippy::too_many_arguments)]
@@ -455,7 +401,7 @@ fn run_once(
     {
         return status;
     }
-    if let Some(diagnostic) = outcome_diagnostic(&program, &result.outcome, &end, args) {
+    if let Some(diagnostic) = execute::outcome_diagnostic(&program, &result.outcome, &end, args.budget()) {
         diagnostics.push(diagnostic);
         if world.is_some() && !args.fault.is_empty() {
             diagnostics.push(Diagnostic::note("replanning after a fault needs the KB files, not a bytecode file"));
@@ -573,70 +519,24 @@ fn run_with_recovery(
             return status;
         }
     }
-    let (facts, unaccounted) = &execute::world_facts(execution.sim.world(), session.interner_mut());
     let (goal, waived) = recover::waive(&session, problem, &execution.sim.world().stopped_arms());
-    let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(session.interner(), t, &Default::default());
-    let waived: Vec<String> = waived.iter().map(|t| format!("`{}`", show(t))).collect();
-    let mut diagnostics = Diagnostics::new();
-    let interner = session.interner();
-    match &execution.verdict {
-        recover::Verdict::GoalReached => {
-            let mut out = String::from("% the executed timeline is valid for the KB\n");
-            out.push_str(&format!(
-                "% goal reached{after}: all {} goal literals hold in the world read back at {end}\n",
-                goal.len()
-            ));
-            if !waived.is_empty() {
-                let stopped = execution.sim.world().stopped_arms().join(", ");
-                out.push_str(&format!("% waived: {} (stopped for good: {stopped})\n", waived.join(", ")));
-            }
-            let _ = std::io::stdout().lock().write_all(out.as_bytes());
-            return ExitCode::SUCCESS;
+    if let recover::Verdict::GoalReached = &execution.verdict {
+        let show =
+            |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(session.interner(), t, &Default::default());
+        let waived: Vec<String> = waived.iter().map(|t| format!("`{}`", show(t))).collect();
+        let mut out = String::from("% the executed timeline is valid for the KB\n");
+        out.push_str(&format!(
+            "% goal reached{after}: all {} goal literals hold in the world read back at {end}\n",
+            goal.len()
+        ));
+        if !waived.is_empty() {
+            let stopped = execution.sim.world().stopped_arms().join(", ");
+            out.push_str(&format!("% waived: {} (stopped for good: {stopped})\n", waived.join(", ")));
         }
-        recover::Verdict::GaveUp { why, considered } => {
-            let program = &last.program;
-            let end_round = program.time_text(last.run.end);
-            match outcome_diagnostic(program, &last.run.outcome, &end_round, args) {
-                Some(d) => diagnostics.push(d),
-                None => {
-                    let unmet = execute::unmet_goals(&goal, facts);
-                    diagnostics.push(goal_diagnostic(interner, true, &unmet, facts, unaccounted));
-                }
-            }
-            if !settings.replan {
-                diagnostics.push(Diagnostic::note("not replanned: replanning is off (`--no-replan`)"));
-            } else if *considered {
-                diagnostics.push(Diagnostic::note(format!("not replanned: {why}")));
-            }
-        }
-        recover::Verdict::Unrecoverable { why } => {
-            diagnostics.push(
-                Diagnostic::error(codes::CANNOT_RECOVER, format!("the goal cannot be reached{after}: {why}"))
-                    .with_note(world_note(interner, facts, unaccounted)),
-            );
-        }
-        recover::Verdict::NoPlan { problem: replanned, failed } => {
-            let figures = session::stats_line(&failed.stats);
-            let search = session.search_failure(*replanned, failed, &figures, &plan_settings);
-            let interner = session.interner();
-            diagnostics.push(
-                Diagnostic::error(
-                    codes::CANNOT_RECOVER,
-                    format!("the goal cannot be reached{after}: no plan from the world read back"),
-                )
-                .with_note(format!("the search: {}", search.message))
-                .with_note(world_note(interner, facts, unaccounted)),
-            );
-        }
-        recover::Verdict::NotCompiled(found) => {
-            diagnostics.extend(found.clone());
-            diagnostics.push(Diagnostic::error(
-                codes::CANNOT_RECOVER,
-                format!("the goal cannot be reached{after}: the plan from the world read back does not compile"),
-            ));
-        }
-        recover::Verdict::InvalidTimeline(found) => diagnostics.extend(found.clone()),
+        let _ = std::io::stdout().lock().write_all(out.as_bytes());
+        return ExitCode::SUCCESS;
     }
+    let diagnostics = execution.diagnostics(&mut session, problem, &settings, args.budget());
     super::fail(session.db(), &diagnostics, format, color)
 }
 
@@ -697,18 +597,6 @@ fn run_chart(
         crate::diag::plural(execution.rounds.len(), "round")
     );
     gantt::draw(&title, &lanes, &bars, &marks, end)
-}
-
-/// The world read back, for a note.
-fn world_note(
-    interner: &crate::intern::Interner,
-    facts: &[crate::ir::hir::Term],
-    unaccounted: &[kbvm::sim::Misplaced],
-) -> String {
-    let show = |t: &crate::ir::hir::Term| crate::ir::hir::term_to_string(interner, t, &Default::default());
-    let mut world: Vec<String> = facts.iter().map(show).collect();
-    world.extend(unaccounted.iter().map(|u| format!("unaccounted: {u}")));
-    format!("the world read back: {}", world.join(", "))
 }
 
 pub(super) fn disasm(args: DisasmArgs, color: bool) -> ExitCode {
