@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use kbc::execute;
 use kbc::ladder::{Family, Rung};
 use kbc::planner::Silent;
-use kbc::session::{PlanSettings, Session};
+use kbc::session::{HostProfile, PlanSettings, Session};
 use kbvm::Program;
 use kbvm::run::{self, Outcome};
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
@@ -22,7 +22,7 @@ fn program(rung: &Rung) -> Program {
     assert!(!session.has_errors(), "{} checks clean", rung.name());
     let settings = PlanSettings { timeout: Some(Duration::from_secs(60)), reassign: false, ..PlanSettings::default() };
     let planned = session.plan(0, &settings, &mut Silent).unwrap_or_else(|_| panic!("a plan for {}", rung.name()));
-    session.build(&planned, Some(("sim", PRIMITIVES))).expect("builds").program()
+    session.build(&planned, Some(HostProfile { name: "sim", actions: PRIMITIVES })).expect("builds").program()
 }
 
 fn main() {

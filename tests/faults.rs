@@ -10,7 +10,7 @@ use common::load;
 use kbc::ir::hir::{Term, term_to_string};
 use kbc::planner::Silent;
 use kbc::recover::{self, Settings, Verdict};
-use kbc::session::PlanSettings;
+use kbc::session::{HostProfile, PlanSettings};
 use kbvm::sim::{FaultSpec, PRIMITIVES, Rng, SimConfig, SimHost};
 
 /// One scenario's result: did it reach the goal, the rounds, the report.
@@ -29,7 +29,7 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
     let planned = session.plan(0, &first, &mut Silent).unwrap_or_else(|e| panic!("{what}: {e:?}"));
     let timed = &planned.timed;
     let built = session
-        .build(&planned, Some(("sim", PRIMITIVES)))
+        .build(&planned, Some(HostProfile { name: "sim", actions: PRIMITIVES }))
         .unwrap_or_else(|| panic!("{what}: {:?}", common::messages(session.diagnostics())));
     let program = built.program();
     let cells = kbc::execute::kb_cells(&mut session, 0);
@@ -45,7 +45,7 @@ fn scenario(files: &[&str], fault: &str, seed: u64) -> Ended {
         replan: true,
         max_recoveries: 3,
         plan: &replan,
-        profile: ("sim", PRIMITIVES),
+        profile: HostProfile { name: "sim", actions: PRIMITIVES },
         max_time: 1_000_000,
         max_ticks: 1_000_000,
     };

@@ -6,7 +6,7 @@ mod common;
 
 use common::{load, planned};
 use kbc::execute;
-use kbc::session::Session;
+use kbc::session::{HostProfile, Session};
 use kbvm::run::{self, Outcome};
 use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 
@@ -15,7 +15,7 @@ use kbvm::sim::{PRIMITIVES, SimConfig, SimHost};
 fn run_physically(session: &mut Session, problem: usize, what: &str) -> (Vec<String>, i64) {
     let planned = planned(session, problem);
     let built = session
-        .build(&planned, Some(("sim", PRIMITIVES)))
+        .build(&planned, Some(HostProfile { name: "sim", actions: PRIMITIVES }))
         .unwrap_or_else(|| panic!("{what}: {:?}", common::messages(session.diagnostics())));
     assert!(!built.module.refinements.is_empty(), "{what}: the std mappings refine the actions");
     let program = built.program();

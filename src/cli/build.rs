@@ -14,7 +14,7 @@ use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::execute;
 use crate::recover;
 use crate::render;
-use crate::session::{self, Pass, Session};
+use crate::session::{self, HostProfile, Pass, Session};
 use crate::source::SourceDb;
 use kbvm::bytecode::Instr;
 use kbvm::run::{self as vm_run, HostEvent, Logged, Outcome, TraceHost};
@@ -112,9 +112,9 @@ enum HostKind {
 
 impl HostKind {
     /// The host profile the compiler checks the plan against.
-    fn profile(self) -> Option<(&'static str, &'static [(&'static str, usize)])> {
+    fn profile(self) -> Option<HostProfile<'static>> {
         match self {
-            HostKind::Sim => Some(("simulated-arms", kbvm::sim::PRIMITIVES)),
+            HostKind::Sim => Some(HostProfile::SIMULATED_ARMS),
             HostKind::Trace => None,
         }
     }
@@ -456,7 +456,7 @@ fn run_with_recovery(
         replan: !args.no_replan,
         max_recoveries: args.max_recoveries,
         plan: &plan_settings,
-        profile: ("simulated-arms", kbvm::sim::PRIMITIVES),
+        profile: HostProfile::SIMULATED_ARMS,
         max_time: args.max_time_units(&program),
         max_ticks: args.max_ticks,
     };

@@ -14,13 +14,13 @@ pub(super) fn build_bytecode(
     db: &SourceDb,
     plan: &crate::ir::plan::Plan,
     timed: &Timed,
-    host: Option<(&str, &[(&str, usize)])>,
+    host: Option<super::HostProfile<'_>>,
 ) -> Result<(crate::ir::bt::Bt, kbvm::bytecode::Module), Box<Diagnostic>> {
     let bt = crate::passes::bt::build(&timed.pop, &timed.stn, &timed.schedule);
     super::verify_after("bt", || crate::ir::bt::verify(&timed.pop, &timed.stn, &bt));
     let refinements = crate::codegen::refinements(kb, interner, &timed.pop)?;
-    if let Some((host, primitives)) = host {
-        crate::codegen::check_host_profile(kb, interner, &timed.pop, &refinements, host, primitives)?;
+    if let Some(host) = host {
+        crate::codegen::check_host_profile(kb, interner, &timed.pop, &refinements, host.name, host.actions)?;
     }
     let module = crate::codegen::generate(kb, interner, db, plan, &timed.pop, &timed.stn, &bt, &refinements);
     // The loader's verifier is the codegen's verifier: what it writes must load back.

@@ -225,9 +225,23 @@ impl Planned {
     }
 }
 
-/// The host a program is built for: its name and the primitive actions it runs, with their
-/// arities. The back end checks every action of the plan against it.
-pub type HostProfile<'a> = (&'a str, &'a [(&'a str, usize)]);
+/// The host a program is built for: its name and the actions it runs, with their arities.
+/// The back end checks every action of the plan (or every step of its refinement) against it
+/// (E0503), as the VM links a program with its host before running it.
+#[derive(Clone, Copy, Debug)]
+pub struct HostProfile<'a> {
+    /// The host's name, for diagnostics.
+    pub name: &'a str,
+    /// The actions it runs: name and arity.
+    pub actions: &'a [(&'a str, usize)],
+}
+
+#[cfg(feature = "sim")]
+impl HostProfile<'static> {
+    /// The simulated arms (`kbvm::sim`): the arm-level primitives of std/arms.pl.
+    pub const SIMULATED_ARMS: HostProfile<'static> =
+        HostProfile { name: "simulated-arms", actions: kbvm::sim::PRIMITIVES };
+}
 
 /// What the back end built.
 pub struct Built {
