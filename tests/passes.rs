@@ -11,6 +11,8 @@
 //! `KBC_BLESS=1` writes the current output as the expectation (then review the diff);
 //! `KBC_CASE=TEXT` runs only the cases whose path contains TEXT.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use kbc::planner::{SearchKind, Silent};
@@ -80,37 +82,18 @@ fn dump(pass: Pass, path: &Path) -> Result<String, String> {
 
 #[test]
 fn passes() {
-    let bless = std::env::var_os("KBC_BLESS").is_some();
     let cases = cases();
     if std::env::var_os("KBC_CASE").is_none() {
         for pass in PASSES {
             assert!(cases.iter().any(|(p, _)| *p == pass), "no case for the `{}` pass", pass.name());
         }
     }
-    let mut failures = Vec::new();
-    for (pass, case) in &cases {
-        let expected_path = case.with_extension(pass.name());
-        let actual = match dump(*pass, case) {
-            Ok(actual) => actual,
-            Err(why) => {
-                failures.push(format!("--- {}: does not compile to `{}`:\n{why}", case.display(), pass.name()));
-                continue;
-            }
-        };
-        if bless {
-            std::fs::write(&expected_path, &actual).expect("writable expectation");
-            continue;
-        }
-        let expected = std::fs::read_to_string(&expected_path).unwrap_or_default();
-        if actual != expected {
-            failures.push(format!("--- {} (expected)\n{expected}+++ actual\n{actual}", expected_path.display()));
-        }
-    }
-    assert!(
-        failures.is_empty(),
-        "{} of {} pass cases differ (re-bless with KBC_BLESS=1 after checking the change is right):\n\n{}",
-        failures.len(),
-        cases.len(),
-        failures.join("\n")
-    );
+    let outputs = cases
+        .iter()
+        .map(|(pass, case)| {
+            let output = dump(*pass, case).map_err(|why| format!("does not compile to `{}`:\n{why}", pass.name()));
+            (case.clone(), case.with_extension(pass.name()), output)
+        })
+        .collect();
+    common::expect_files("pass cases", outputs);
 }

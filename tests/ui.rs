@@ -10,6 +10,8 @@
 //! diff), and with `KBC_CASE=TEXT` to run only the cases whose path contains TEXT. Files in subdirectories are only reachable through `include` or a `ui:` line, not
 //! checked directly. Every mismatch is reported, not just the first.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use kbc::diag::render;
@@ -84,35 +86,10 @@ fn normalize_figures(text: &str) -> String {
 
 #[test]
 fn ui() {
-    let bless = std::env::var_os("KBC_BLESS").is_some();
     let cases = cases();
     if std::env::var_os("KBC_CASE").is_none() {
         assert!(cases.len() >= 40, "expected at least 40 UI cases, found {}", cases.len());
     }
-    let mut failures = Vec::new();
-    for case in &cases {
-        let actual = match render_case(case) {
-            Ok(actual) => actual,
-            Err(problem) => {
-                failures.push(format!("--- {}: {problem}", case.display()));
-                continue;
-            }
-        };
-        let expected_path = case.with_extension("stderr");
-        if bless {
-            std::fs::write(&expected_path, &actual).expect("writable expectation");
-            continue;
-        }
-        let expected = std::fs::read_to_string(&expected_path).unwrap_or_default();
-        if actual != expected {
-            failures.push(format!("--- {} (expected)\n{expected}+++ actual\n{actual}", expected_path.display()));
-        }
-    }
-    assert!(
-        failures.is_empty(),
-        "{} of {} UI cases differ (re-bless with KBC_BLESS=1 after checking the change is right):\n\n{}",
-        failures.len(),
-        cases.len(),
-        failures.join("\n")
-    );
+    let outputs = cases.iter().map(|case| (case.clone(), case.with_extension("stderr"), render_case(case))).collect();
+    common::expect_files("UI cases", outputs);
 }

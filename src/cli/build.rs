@@ -9,7 +9,7 @@ use kbvm::Program;
 use kbvm::bytecode::MAGIC;
 
 use super::plan::{Planned, PlanningArgs, plan_and_schedule};
-use super::{DumpAfter, MessageFormat, report};
+use super::{MessageFormat, report};
 use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::execute;
 use crate::recover;
@@ -33,7 +33,7 @@ pub(super) struct BuildArgs {
     /// Print the intermediate representation after this pass on stdout first (any pass up to
     /// `bt`, the behaviour tree).
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<DumpAfter>,
+    dump_after: Option<Pass>,
     /// Check that the host can run every action of the plan (directly or through its
     /// `mapping/2` refinement).
     #[arg(long, value_enum, value_name = "HOST")]
@@ -132,7 +132,7 @@ pub(super) fn build(args: BuildArgs, color: bool) -> ExitCode {
         eprintln!("error: bytecode is binary: give the file to write with `-o FILE` (or `--emit bt-xml` for text)");
         return ExitCode::from(2);
     }
-    let dump = args.dump_after.map(DumpAfter::pass);
+    let dump = args.dump_after;
     let Planned { mut session, planned, .. } = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,

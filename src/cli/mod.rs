@@ -117,7 +117,7 @@ struct CheckArgs {
     message_format: MessageFormat,
     /// Print the intermediate representation after this pass on stdout (`parse` or `hir`).
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<DumpAfter>,
+    dump_after: Option<Pass>,
     /// Treat these findings as errors: `-D warnings` makes every warning an error (exit
     /// status 1), for a KB that must be clean.
     #[arg(short = 'D', long = "deny", value_enum, value_name = "LINT")]
@@ -143,44 +143,6 @@ enum ColorWhen {
 pub(crate) enum MessageFormat {
     Human,
     Json,
-}
-
-/// The passes `--dump-after` prints (the same for every subcommand; `kbc check` stops after
-/// `hir`).
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub(crate) enum DumpAfter {
-    /// The syntax tree of every file read.
-    Parse,
-    /// The resolved knowledge base.
-    Hir,
-    /// The planning task the search runs on.
-    Task,
-    /// The partial-order plan: achievers and orderings.
-    Pop,
-    /// The simple temporal network.
-    Stn,
-    /// The schedule: each snap action's earliest and latest time and its slack.
-    Schedule,
-    /// The minimal network: the tightest bounds the STN implies between every pair of time
-    /// points (all-pairs shortest paths; its size grows with the square of the plan's).
-    Minimal,
-    /// The behaviour tree.
-    Bt,
-}
-
-impl DumpAfter {
-    pub(crate) fn pass(self) -> Pass {
-        match self {
-            DumpAfter::Parse => Pass::Parse,
-            DumpAfter::Hir => Pass::Hir,
-            DumpAfter::Task => Pass::Task,
-            DumpAfter::Pop => Pass::Pop,
-            DumpAfter::Stn => Pass::Stn,
-            DumpAfter::Schedule => Pass::Schedule,
-            DumpAfter::Minimal => Pass::Minimal,
-            DumpAfter::Bt => Pass::Bt,
-        }
-    }
 }
 
 /// Runs the command line and returns the process's exit status.
@@ -230,7 +192,7 @@ pub(crate) fn open_for_problem(files: &[PathBuf], problem: Option<&str>) -> (Ses
 }
 
 fn check(args: CheckArgs, color: bool) -> ExitCode {
-    if let Some(pass) = args.dump_after.map(DumpAfter::pass).filter(|p| !p.is_frontend()) {
+    if let Some(pass) = args.dump_after.filter(|p| !p.is_frontend()) {
         eprintln!(
             "error: `kbc check` stops after `hir`; `--dump-after {}` needs a problem: use `kbc plan` or `kbc build`",
             pass.name()
@@ -242,7 +204,7 @@ fn check(args: CheckArgs, color: bool) -> ExitCode {
         session.deny_warnings();
     }
     if let Some(pass) = args.dump_after {
-        let _ = session.dump_frontend(pass.pass(), &mut std::io::stdout().lock());
+        let _ = session.dump_frontend(pass, &mut std::io::stdout().lock());
     }
     report(session.db(), session.diagnostics(), args.message_format, color);
     if session.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS }

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 
-use super::{DumpAfter, MessageFormat, report};
+use super::{MessageFormat, report};
 use crate::ir::hir::{self, Kb, VarTable};
 use crate::ir::plan::{self, Plan};
 use crate::ir::pop::Achiever;
@@ -83,7 +83,7 @@ pub(super) struct PlanArgs {
     /// tree, the resolved KB, the planning task, the partial-order plan (with the achievers
     /// of every step), the STN, the schedule, the minimal network or the behaviour tree.
     #[arg(long, value_enum, value_name = "PASS")]
-    dump_after: Option<DumpAfter>,
+    dump_after: Option<Pass>,
     /// Print the timed plan, in the PDDL 2.1 plan format, instead of the total order.
     #[arg(long)]
     schedule: bool,
@@ -207,7 +207,7 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump: Option<P
 }
 
 pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
-    let dump = args.dump_after.map(DumpAfter::pass);
+    let dump = args.dump_after;
     let Planned { mut session, problem, planned } = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,

@@ -58,8 +58,10 @@ pub(crate) fn verify_after(pass: &str, verify: impl FnOnce() -> Result<(), Strin
     }
 }
 
-/// The passes whose output `--dump-after` prints, in pipeline order.
+/// The passes whose output `--dump-after` prints, in pipeline order (the same list for every
+/// subcommand; `kbc check` stops after `hir`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Pass {
     /// The syntax tree of every file read.
     Parse,

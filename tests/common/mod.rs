@@ -46,3 +46,35 @@ pub fn planned(session: &mut Session, problem: usize) -> std::rc::Rc<kbc::sessio
         .plan(problem, &settings(), &mut Silent)
         .unwrap_or_else(|e| panic!("no plan for problem {problem}: {e:?} {:?}", messages(session.diagnostics())))
 }
+
+/// Holds each output against the expectation file beside its case (`KBC_BLESS=1` writes the
+/// outputs as the expectations instead), and fails listing every case that differs or could
+/// not be run. `outputs` are (case, expectation file, output or why there is none).
+pub fn expect_files(kind: &str, outputs: Vec<(PathBuf, PathBuf, Result<String, String>)>) {
+    let bless = std::env::var_os("KBC_BLESS").is_some();
+    let total = outputs.len();
+    let mut failures = Vec::new();
+    for (case, expected_path, actual) in outputs {
+        let actual = match actual {
+            Ok(actual) => actual,
+            Err(problem) => {
+                failures.push(format!("--- {}: {problem}", case.display()));
+                continue;
+            }
+        };
+        if bless {
+            std::fs::write(&expected_path, &actual).expect("writable expectation");
+            continue;
+        }
+        let expected = std::fs::read_to_string(&expected_path).unwrap_or_default();
+        if actual != expected {
+            failures.push(format!("--- {} (expected)\n{expected}+++ actual\n{actual}", expected_path.display()));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {total} {kind} differ (re-bless with KBC_BLESS=1 after checking the change is right):\n\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
