@@ -57,9 +57,25 @@ pub struct Rung {
 }
 
 /// The sizes of the standard ladder: (blocks, arms), from the paper's cases (2 and 3 blocks
-/// with 3 arms, its 4-block 3-arm stacking case) up to 30 blocks and 6 arms.
-pub const SIZES: [(usize, usize); 12] =
-    [(2, 3), (3, 3), (4, 3), (5, 3), (6, 3), (8, 3), (10, 4), (12, 4), (15, 4), (20, 4), (25, 6), (30, 6)];
+/// with 3 arms, its 4-block 3-arm stacking case) up to 100 blocks and 10 arms.
+pub const SIZES: [(usize, usize); 16] = [
+    (2, 3),
+    (3, 3),
+    (4, 3),
+    (5, 3),
+    (6, 3),
+    (8, 3),
+    (10, 4),
+    (12, 4),
+    (15, 4),
+    (20, 4),
+    (25, 6),
+    (30, 6),
+    (50, 8),
+    (75, 10),
+    (100, 8),
+    (100, 10),
+];
 
 /// The standard ladder: every family at every size, seed 1.
 pub fn standard() -> Vec<Rung> {

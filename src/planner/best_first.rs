@@ -44,7 +44,11 @@ use crate::ir::plan::Plan;
 use crate::ir::task::{State, Task};
 
 struct Node {
-    state: State,
+    /// The state, kept once the node is expanded (its children are made from it); a node
+    /// only generated is its parent and action, its state made again when it is expanded.
+    state: Option<State>,
+    /// The state's fingerprint, for duplicate detection without keeping every state.
+    fingerprint: Fingerprint,
     parent: u32,
     action: Option<Applicable>,
     depth: u32,
@@ -53,6 +57,19 @@ struct Node {
     accepted: Option<Accepted>,
     /// The makespan of the prefix that leads here (achiever-based, see [`Timeline`]).
     makespan: i64,
+}
+
+/// A state's 128-bit fingerprint: two independent 64-bit hashes (FxHash for the table,
+/// SipHash with fixed keys for the rest). Two different states share one with a probability
+/// near 2^-128 per pair, so the search can recognise a state it has seen without storing it:
+/// at 10^7 states the odds of any collision are below 10^-24.
+type Fingerprint = (u64, u64);
+
+fn fingerprint(state: &State) -> Fingerprint {
+    use std::hash::{Hash, Hasher};
+    let mut sip = std::hash::DefaultHasher::new();
+    state.hash(&mut sip);
+    (FxBuildHasher.hash_one(state), sip.finish())
 }
 
 /// An open-list entry: landmark count plus h_FF, whether the last action is a start that
@@ -135,12 +152,20 @@ pub fn search(
         return Outcome::ended(vec![plan_from(task, &[])], Failure::Exhausted { depth_limit: None }, stats);
     }
     let mut found: Vec<Plan> = Vec::new();
-    let hasher = FxBuildHasher;
     let mut nodes: Vec<Node> = Vec::new();
     let mut seen: HashTable<u32> = HashTable::new();
-    let mut bytes = init.footprint();
-    seen.insert_unique(hasher.hash_one(&init), 0, |_| 0);
-    nodes.push(Node { state: init, parent: u32::MAX, action: None, depth: 0, accepted: None, makespan: 0 });
+    let mut bytes = init.footprint() + std::mem::size_of::<Node>();
+    let root_print = fingerprint(&init);
+    seen.insert_unique(root_print.0, 0, |_| 0);
+    nodes.push(Node {
+        state: Some(init),
+        fingerprint: root_print,
+        parent: u32::MAX,
+        action: None,
+        depth: 0,
+        accepted: None,
+        makespan: 0,
+    });
     // Once a plan is found: the makespan to beat.
     let mut best: Option<i64> = None;
     let mut regular: BinaryHeap<Entry> = BinaryHeap::new();
@@ -190,7 +215,19 @@ pub fn search(
             stats.unschedulable += 1;
             continue;
         }
-        let state = nodes[id as usize].state.clone();
+        // The state: kept if the node was expanded before, else made from its parent's.
+        let state = match &nodes[id as usize].state {
+            Some(state) => state.clone(),
+            None => {
+                let node = &nodes[id as usize];
+                let (parent, action) = (node.parent as usize, node.action.as_ref().expect("a child has an action"));
+                let parent_state = nodes[parent].state.as_ref().expect("a parent is expanded before its children");
+                let state = successors::apply(task, parent_state, action);
+                bytes += state.footprint();
+                nodes[id as usize].state = Some(state.clone());
+                state
+            }
+        };
         let parent_accepted = match nodes[id as usize].parent {
             u32::MAX => None,
             parent => nodes[parent as usize].accepted.clone(),
@@ -267,8 +304,8 @@ pub fn search(
                 }
                 continue; // a goal state is not expanded
             }
-            let hash = hasher.hash_one(&child);
-            if let Some(&other) = seen.find(hash, |&n| nodes[n as usize].state == child) {
+            let print = fingerprint(&child);
+            if let Some(&other) = seen.find(print.0, |&n| nodes[n as usize].fingerprint == print) {
                 // Once improving, a state reached by a prefix with a shorter makespan is
                 // searched again from there.
                 let better = best.is_some() && makespan < nodes[other as usize].makespan;
@@ -317,10 +354,18 @@ pub fn search(
                 helpful = false;
             }
             let child_id = nodes.len() as u32;
-            bytes += child.footprint() + std::mem::size_of::<Node>();
+            bytes += std::mem::size_of::<Node>() + std::mem::size_of_val(&*action.bindings);
             stats.peak_bytes = stats.peak_bytes.max(bytes);
-            nodes.push(Node { state: child, parent: id, action: Some(action), depth, accepted: None, makespan });
-            seen.insert_unique(hash, child_id, |&n| hasher.hash_one(&nodes[n as usize].state));
+            nodes.push(Node {
+                state: None,
+                fingerprint: print,
+                parent: id,
+                action: Some(action),
+                depth,
+                accepted: None,
+                makespan,
+            });
+            seen.insert_unique(print.0, child_id, |&n| nodes[n as usize].fingerprint.0);
             let entry = if improving {
                 Reverse((h_lm + h_ff + idles as u32, 0, makespan, h_ff, time, depth, child_id))
             } else {
@@ -339,11 +384,11 @@ pub fn search(
             nodes.clear();
             nodes.push(Node { accepted: None, ..root });
             seen.clear();
-            seen.insert_unique(hasher.hash_one(&nodes[0].state), 0, |_| 0);
+            seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);
             regular.clear();
             preferred.clear();
             regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
-            bytes = nodes[0].state.footprint();
+            bytes = nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>();
         }
     }
 }
