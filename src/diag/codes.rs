@@ -165,6 +165,7 @@ codes! {
     UNPAIRED_ARITIES = "W0011": "a `_start` and an `_end` with different arities, planned as unrelated actions";
     MISSPELT_DECLARATION = "W0012": "a fact named like a kbc declaration";
     UNUSED_DURATION = "W0013": "a duration that names no durative action";
+    INCLUDED_AGAIN = "W0014": "a file included again";
 }
 
 #[cfg(test)]

@@ -1,7 +1,9 @@
 //! Pass `load`: parse the given files and everything they include, in clause order.
 //!
 //! `:- include(F)` splices F's clauses in at the directive, as SWI-Prolog does, and
-//! `:- ensure_loaded(F)` does the same unless F is already loaded. Paths resolve relative to
+//! `:- ensure_loaded(F)` does the same; a file already loaded is not loaded again (for an
+//! `include`, warning W0014: SWI-Prolog would insert its clauses twice), so every file is read
+//! and parsed once. Paths resolve relative to
 //! the including file (`f` also tries `f.pl`). A file that includes itself, directly or
 //! through others, is a cycle: reported with a label on every directive in the loop.
 //!
@@ -197,7 +199,21 @@ impl Loader<'_> {
             self.diags.push(diagnostic.with_help("remove one of the directives in the cycle"));
             return;
         }
-        if matches!(kind, LoadKind::EnsureLoaded) && self.seen_paths.contains(&loaded.canonical) {
+        if self.seen_paths.contains(&loaded.canonical) {
+            // Loaded already, along another path: once is enough. (SWI-Prolog's include/1
+            // would splice the clauses in again; a diamond of includes would then grow the
+            // program exponentially.)
+            if matches!(kind, LoadKind::Include) {
+                self.diags.push(
+                    Diagnostic::warning(codes::INCLUDED_AGAIN, format!("`{display}` is already loaded"))
+                        .primary(directive, "included again here")
+                        .with_note(
+                            "SWI-Prolog's include/1 would insert its clauses again, so each fact and rule would be \
+                             there twice; kbc loads a file once, as ensure_loaded/1 does",
+                        )
+                        .with_help("write `:- ensure_loaded(...)` to load it wherever it is needed, or remove this directive"),
+                );
+            }
             return;
         }
         self.seen_paths.push(loaded.canonical.clone());

@@ -29,13 +29,55 @@ pub fn io_reason(error: &std::io::Error) -> String {
     }
 }
 
-/// A file's text: UTF-8, at most [`MAX_FILE_LEN`] bytes.
+/// The most bytes a KB file may have, 64 MiB (the largest KB written by hand or generated
+/// for the benchmarks is a few MB): a larger file is refused with a reason that names the
+/// limit, before it is read.
+pub const MAX_KB_FILE: u64 = 64 << 20;
+
+/// A file's text: a regular file (never a directory, device, FIFO or socket, which could block
+/// or never end), of at most [`MAX_KB_FILE`] bytes, in UTF-8.
 pub fn read_text(path: &Path) -> Result<String, String> {
-    let bytes = std::fs::read(path).map_err(|e| io_reason(&e))?;
-    if bytes.len() > MAX_FILE_LEN {
-        return Err("the file is larger than 4 GiB".to_string());
+    use std::io::Read;
+    let metadata = std::fs::metadata(path).map_err(|e| io_reason(&e))?;
+    let kind = metadata.file_type();
+    if kind.is_dir() {
+        return Err("it is a directory, not a file".to_string());
+    }
+    if !kind.is_file() {
+        return Err(format!("it is {}, not a regular file: kbc reads KB files only", special_kind(&kind)));
+    }
+    let limit = MAX_KB_FILE.min(MAX_FILE_LEN as u64);
+    let too_large = |size: u64| format!("the file has {size} bytes, more than the {} MiB a KB file may have", limit >> 20);
+    if metadata.len() > limit {
+        return Err(too_large(metadata.len()));
+    }
+    // Read at most one byte past the limit: a file that grows while it is read stops there.
+    let file = std::fs::File::open(path).map_err(|e| io_reason(&e))?;
+    let mut bytes = Vec::with_capacity(metadata.len() as usize);
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| io_reason(&e))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
     }
     String::from_utf8(bytes).map_err(|e| format!("not valid UTF-8 (byte {})", e.utf8_error().valid_up_to()))
+}
+
+/// What a file that is neither a regular file nor a directory is.
+fn special_kind(kind: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a FIFO (a named pipe)";
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    let _ = kind;
+    "a special file"
 }
 
 /// Reads `paths` into `db`, named as given; an unreadable one becomes a diagnostic.
@@ -65,4 +107,25 @@ pub fn process_peak_bytes() -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kilobytes: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
     Some(kilobytes * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_over_the_limit_is_refused_before_it_is_read() {
+        let path = std::env::temp_dir().join(format!("kbc-large-{}.pl", std::process::id()));
+        let file = std::fs::File::create(&path).expect("a temporary file");
+        file.set_len(MAX_KB_FILE + 1).expect("a sparse file"); // no disk space used
+        let error = read_text(&path).expect_err("too large");
+        std::fs::remove_file(&path).expect("removed");
+        assert!(error.contains("more than the 64 MiB a KB file may have"), "{error}");
+    }
+
+    #[test]
+    fn devices_and_directories_are_refused_without_reading_them() {
+        assert!(read_text(Path::new("/dev/zero")).expect_err("a device").contains("a device"));
+        assert!(read_text(&std::env::temp_dir()).expect_err("a directory").contains("a directory"));
+    }
 }
