@@ -125,7 +125,27 @@ fn corpus() -> Vec<String> {
     ] {
         texts.push(std::fs::read_to_string(path).expect("example exists"));
     }
+    // And every UI case: each was written to hit one corner of the language.
+    let mut stack = vec![std::path::PathBuf::from("tests/ui")];
+    let mut cases = Vec::new();
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).expect("tests/ui is readable") {
+            let path = entry.expect("an entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "pl") {
+                cases.push(path);
+            }
+        }
+    }
+    cases.sort();
+    texts.extend(cases.iter().map(|p| std::fs::read_to_string(p).expect("a readable UI case")));
     texts
+}
+
+/// How many cases each property runs: 2,000, or `KBC_FUZZ_CASES`.
+fn fuzz_cases() -> u32 {
+    std::env::var("KBC_FUZZ_CASES").ok().and_then(|n| n.parse().ok()).unwrap_or(2000)
 }
 
 #[derive(Debug, Clone)]
@@ -259,7 +279,7 @@ fn round_trip(text: &str) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: fuzz_cases(), failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn token_soup_never_breaks_the_front_end(text in soup()) {
@@ -267,7 +287,7 @@ proptest! {
     }
 
     #[test]
-    fn edited_kb_files_never_break_the_front_end(which in 0usize..6, edits in proptest::collection::vec(edit(), 1..6)) {
+    fn edited_kb_files_never_break_the_front_end(which in 0usize..100_000, edits in proptest::collection::vec(edit(), 1..6)) {
         let corpus = corpus();
         let mut text = corpus[which % corpus.len()].clone();
         for edit in &edits {

@@ -147,6 +147,21 @@ pub(crate) enum MessageFormat {
 
 /// Runs the command line and returns the process's exit status.
 pub fn main() -> ExitCode {
+    // The compiler walks terms recursively, and a KB's terms can be as deep as they are long
+    // (a list of a million items, a body of a million goals, an operator chain): the work
+    // runs on a thread whose stack can grow to STACK_BYTES. Only the pages a run touches are
+    // committed, so an ordinary KB uses no more memory than on the main thread's stack.
+    match std::thread::Builder::new().name("kbc".into()).stack_size(STACK_BYTES).spawn(run) {
+        Ok(worker) => worker.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+        Err(_) => run(), // no thread (a restricted environment): the main thread's stack
+    }
+}
+
+/// The stack of the thread that does the work: 1 GiB of address space, of which a KB nested
+/// or chained a million deep touches a few hundred MB (see `tests/hostile.rs`).
+const STACK_BYTES: usize = 1 << 30;
+
+fn run() -> ExitCode {
     let cli = Cli::parse();
     let color = match cli.color {
         ColorWhen::Always => true,

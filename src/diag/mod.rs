@@ -155,6 +155,8 @@ impl Diagnostic {
 #[derive(Debug, Default, Clone)]
 pub struct Diagnostics {
     items: Vec<Diagnostic>,
+    /// Errors left out by [`Diagnostics::cap_repeats`], still counted.
+    dropped_errors: usize,
 }
 
 impl Diagnostics {
@@ -186,9 +188,9 @@ impl Diagnostics {
         }
     }
 
-    /// The number of errors.
+    /// The number of errors, with those [`Diagnostics::cap_repeats`] left out.
     pub fn error_count(&self) -> usize {
-        self.items.iter().filter(|d| d.is_error()).count()
+        self.items.iter().filter(|d| d.is_error()).count() + self.dropped_errors
     }
 
     /// The number of warnings.
@@ -214,12 +216,53 @@ impl Diagnostics {
     /// Moves everything from `other` into `self`.
     pub fn extend(&mut self, other: Diagnostics) {
         self.items.extend(other.items);
+        self.dropped_errors += other.dropped_errors;
     }
 
     /// Sorts diagnostics by file and position (stable for equal positions), so output does not
     /// depend on the order in which passes happened to find problems.
     pub fn sort_by_position(&mut self) {
         self.items.sort_by_key(|d| d.primary_span().map(|s| (s.file, s.start, s.end)));
+    }
+
+    /// Keeps the first `limit` diagnostics of each code in each file and replaces the rest by
+    /// one note that counts them ("and 9,990 more E0104 in `a.pl`"): a file of ten thousand
+    /// stray brackets gets a readable report, rendered in time proportional to the input.
+    /// The count of errors stays exact ([`Diagnostics::error_count`] counts the dropped ones).
+    pub fn cap_repeats(&mut self, limit: usize) {
+        use std::collections::BTreeMap;
+        let mut seen: BTreeMap<(Code, u32), (usize, usize, Severity)> = BTreeMap::new();
+        let mut kept = Vec::with_capacity(self.items.len().min(limit * 8));
+        for diagnostic in std::mem::take(&mut self.items) {
+            let key = diagnostic.code.zip(diagnostic.primary_span().map(|s| s.file.0));
+            let Some(key) = key else {
+                kept.push(diagnostic);
+                continue;
+            };
+            let entry = seen.entry(key).or_insert((0, 0, diagnostic.severity));
+            entry.0 += 1;
+            if entry.0 <= limit {
+                kept.push(diagnostic);
+            } else {
+                entry.1 += 1;
+            }
+        }
+        for ((code, _), (_, dropped, severity)) in seen {
+            if dropped > 0 {
+                let what = match severity {
+                    Severity::Error => "errors",
+                    Severity::Warning => "warnings",
+                    Severity::Note => "notes",
+                };
+                self.dropped_errors += if severity == Severity::Error { dropped } else { 0 };
+                kept.push(Diagnostic::note(format!(
+                    "{} more {what} {} in the same file are not shown (the first {limit} are)",
+                    group_thousands(dropped),
+                    code.as_str()
+                )));
+            }
+        }
+        self.items = kept;
     }
 
     /// Takes the diagnostics out.
@@ -235,6 +278,19 @@ impl IntoIterator for Diagnostics {
     fn into_iter(self) -> Self::IntoIter {
         self.items.into_iter()
     }
+}
+
+/// `n` with a comma between each group of three digits: `9,990`.
+pub fn group_thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }
 
 /// A count and its noun for messages: "1 argument", "2 arguments".
@@ -286,6 +342,35 @@ pub fn best_match<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>)
 
 #[cfg(test)]
 mod tests {
+    use crate::source::{FileId, Span};
+
+    #[test]
+    fn repeated_diagnostics_are_capped_per_code_and_file_and_still_counted() {
+        let mut diagnostics = Diagnostics::new();
+        for i in 0..250u32 {
+            let span = Span::new(FileId(i % 2), i, i + 1);
+            diagnostics.push(Diagnostic::error(codes::MISMATCHED_DELIMITER, "stray").primary(span, "here"));
+        }
+        diagnostics
+            .push(Diagnostic::warning(codes::SINGLETON_VARIABLE, "once").primary(Span::point(FileId(0), 0), "x"));
+        diagnostics.cap_repeats(100);
+        let shown = diagnostics.iter().filter(|d| d.code == Some(codes::MISMATCHED_DELIMITER)).count();
+        assert_eq!(shown, 200, "the first 100 of each file");
+        let notes: Vec<&str> =
+            diagnostics.iter().filter(|d| d.severity == Severity::Note).map(|d| d.message.as_str()).collect();
+        assert_eq!(notes, ["25 more errors E0104 in the same file are not shown (the first 100 are)"; 2]);
+        assert_eq!(diagnostics.error_count(), 250, "the errors left out still count");
+        assert_eq!(diagnostics.warning_count(), 1, "other codes are untouched");
+    }
+
+    #[test]
+    fn thousands_are_grouped() {
+        assert_eq!(
+            [0, 999, 1_000, 9_990, 1_234_567].map(group_thousands),
+            ["0", "999", "1,000", "9,990", "1,234,567"].map(String::from)
+        );
+    }
+
     use super::*;
 
     #[test]

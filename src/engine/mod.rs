@@ -506,7 +506,27 @@ impl<'p> Machine<'p> {
         self.trail.push(var);
     }
 
-    /// Unifies two cells, recording bindings on the trail. No occurs check, as in Prolog.
+    /// Whether the variable `var` occurs in the term `cell` (iteratively: terms may be deep).
+    fn occurs(&self, var: u32, cell: Cell) -> bool {
+        let mut pending = vec![cell];
+        while let Some(cell) = pending.pop() {
+            match self.deref(cell) {
+                Cell::Ref(x) if x == var => return true,
+                Cell::Struct(x) => {
+                    if let Cell::Functor(_, n) = self.heap[x as usize] {
+                        pending.extend((1..=n).map(|i| self.heap[(x + i) as usize]));
+                    }
+                }
+                _ => {}
+            }
+        }
+        false
+    }
+
+    /// Unifies two cells, recording bindings on the trail, with the occurs check (as
+    /// `unify_with_occurs_check/2`): a variable never binds to a term that contains it, so
+    /// `X = f(X)` fails and no term is cyclic (SWI-Prolog would make a rational tree; kbc's
+    /// comparison, copying and printing need not handle one).
     pub fn unify(&mut self, a: Cell, b: Cell) -> bool {
         let mut pending = vec![(a, b)];
         while let Some((a, b)) = pending.pop() {
@@ -519,7 +539,12 @@ impl<'p> Machine<'p> {
                         if x < y { self.bind(y, a) } else { self.bind(x, b) }
                     }
                 }
-                (Cell::Ref(x), other) | (other, Cell::Ref(x)) => self.bind(x, other),
+                (Cell::Ref(x), other) | (other, Cell::Ref(x)) => {
+                    if matches!(other, Cell::Struct(_)) && self.occurs(x, other) {
+                        return false;
+                    }
+                    self.bind(x, other)
+                }
                 (Cell::Struct(x), Cell::Struct(y)) => {
                     if x == y {
                         continue;

@@ -211,7 +211,9 @@ impl Loader<'_> {
                             "SWI-Prolog's include/1 would insert its clauses again, so each fact and rule would be \
                              there twice; kbc loads a file once, as ensure_loaded/1 does",
                         )
-                        .with_help("write `:- ensure_loaded(...)` to load it wherever it is needed, or remove this directive"),
+                        .with_help(
+                            "write `:- ensure_loaded(...)` to load it wherever it is needed, or remove this directive",
+                        ),
                 );
             }
             return;

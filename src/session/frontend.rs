@@ -10,6 +10,10 @@ use crate::source::{FileId, SourceDb};
 use crate::stdlib;
 use crate::syntax::ast::TermKind;
 
+/// The most diagnostics of one code the front end reports in one file; a note counts the
+/// rest (a generated file with ten thousand stray brackets still gets a readable report).
+pub const MAX_REPEATS: usize = 100;
+
 /// What the front end produced.
 pub struct Frontend {
     /// Every name seen.
@@ -72,6 +76,7 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
     verify_hir(&kb, db, &interner);
     check::check(&kb, &interner, &mut diags);
     diags.sort_by_position();
+    diags.cap_repeats(MAX_REPEATS);
     (Frontend { interner, loaded, kb }, diags)
 }
 

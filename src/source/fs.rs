@@ -47,7 +47,8 @@ pub fn read_text(path: &Path) -> Result<String, String> {
         return Err(format!("it is {}, not a regular file: kbc reads KB files only", special_kind(&kind)));
     }
     let limit = MAX_KB_FILE.min(MAX_FILE_LEN as u64);
-    let too_large = |size: u64| format!("the file has {size} bytes, more than the {} MiB a KB file may have", limit >> 20);
+    let too_large =
+        |size: u64| format!("the file has {size} bytes, more than the {} MiB a KB file may have", limit >> 20);
     if metadata.len() > limit {
         return Err(too_large(metadata.len()));
     }

@@ -389,6 +389,30 @@ impl Bracket {
     }
 }
 
+/// How many mismatched closers in one clause get a look at the rest of the clause to choose
+/// between a typo and missing closers (each look is linear in the clause).
+const MAX_LOOKAHEADS: usize = 32;
+
+/// How many other unclosed brackets an unclosed-delimiter diagnostic labels; a note counts
+/// the rest.
+const MAX_UNCLOSED_LABELS: usize = 8;
+
+/// Labels the other unclosed brackets, innermost first, up to [`MAX_UNCLOSED_LABELS`].
+fn also_unclosed<'a>(mut diagnostic: Diagnostic, others: impl Iterator<Item = &'a (Bracket, Span)>) -> Diagnostic {
+    let mut more = 0usize;
+    for (i, (b, s)) in others.enumerate() {
+        if i < MAX_UNCLOSED_LABELS {
+            diagnostic = diagnostic.secondary(*s, format!("this `{}` is not closed either", b.open_text()));
+        } else {
+            more += 1;
+        }
+    }
+    if more > 0 {
+        diagnostic = diagnostic.with_note(format!("and {} more unclosed brackets", crate::diag::group_thousands(more)));
+    }
+    diagnostic
+}
+
 /// How many bracket errors the tokens after a decision would still produce.
 fn count_bracket_errors(mut stack: Vec<Bracket>, rest: &[Token]) -> usize {
     let mut errors = 0;
@@ -421,6 +445,7 @@ fn balance_brackets(
     let mut out = Vec::with_capacity(tokens.len() + 2);
     // Open brackets: kind and the span of the opener.
     let mut stack: Vec<(Bracket, Span)> = Vec::new();
+    let mut lookaheads = 0usize;
     for (i, token) in tokens.iter().enumerate() {
         let span = Span::new(file, token.start, token.end);
         if let Some(b) = Bracket::of_opener(&token.tok) {
@@ -450,13 +475,21 @@ fn balance_brackets(
         }
         // Mismatch: either this closer is a typo for `top`'s closer, or the brackets opened
         // since the one it matches were never closed. Try both on the rest of the clause.
+        // Each choice looks at the rest of the clause; past a few dozen mismatches in one
+        // clause (generated or corrupted input) the choice is the typo, so that recovery
+        // stays linear in the input.
+        lookaheads += 1;
         let kinds: Vec<Bracket> = stack.iter().map(|(b, _)| *b).collect();
         let rest = &tokens[i + 1..];
-        let missing_closers = kinds.iter().rposition(|&b| b == closer).map(|depth| {
-            let remaining = kinds[..depth].to_vec();
-            (depth, count_bracket_errors(remaining, rest))
-        });
-        let typo_errors = count_bracket_errors(kinds[..kinds.len() - 1].to_vec(), rest);
+        let (missing_closers, typo_errors) = if lookaheads <= MAX_LOOKAHEADS {
+            let missing = kinds.iter().rposition(|&b| b == closer).map(|depth| {
+                let remaining = kinds[..depth].to_vec();
+                (depth, count_bracket_errors(remaining, rest))
+            });
+            (missing, count_bracket_errors(kinds[..kinds.len() - 1].to_vec(), rest))
+        } else {
+            (None, 0)
+        };
         match missing_closers {
             Some((depth, errors)) if errors < typo_errors => {
                 let unclosed: Vec<(Bracket, Span)> = stack.drain(depth + 1..).collect();
@@ -470,9 +503,7 @@ fn balance_brackets(
                         .secondary(span, format!("`{}` closes an outer bracket here", closer.close_text()))
                         .with_fix(format!("insert `{closers}`"), Span::point(file, insertion), closers.clone())
                         .with_help(format!("insert `{closers}` before this `{}`", closer.close_text()));
-                for (b, s) in unclosed.iter().rev().skip(1) {
-                    diagnostic = diagnostic.secondary(*s, format!("this `{}` is not closed either", b.open_text()));
-                }
+                diagnostic = also_unclosed(diagnostic, unclosed.iter().rev().skip(1));
                 diags.push(diagnostic);
                 for (b, _) in unclosed.iter().rev() {
                     out.push(Token::inserted(b.closer(), insertion));
@@ -508,9 +539,7 @@ fn balance_brackets(
         let mut diagnostic =
             Diagnostic::error(codes::UNCLOSED_DELIMITER, format!("unclosed delimiter `{}`", inner.open_text()))
                 .primary(inner_span, format!("this `{}` is never closed", inner.open_text()));
-        for (b, s) in stack.iter().rev().skip(1) {
-            diagnostic = diagnostic.secondary(*s, format!("this `{}` is not closed either", b.open_text()));
-        }
+        diagnostic = also_unclosed(diagnostic, stack.iter().rev().skip(1));
         if let Some(end) = end {
             diagnostic = diagnostic.secondary(Span::new(file, end.start, end.end), "the clause ends here");
         }

@@ -23,7 +23,11 @@ impl Client {
     /// Starts a server and initialises it on `root` with `options` as initializationOptions.
     pub fn start(root: &std::path::Path, options: Value) -> Client {
         let (server_side, client_side) = Connection::memory();
-        let server = std::thread::spawn(move || kbc::lsp::serve(server_side));
+        // As `kbc lsp` does, the server runs on a thread with a large stack (deep terms).
+        let server = std::thread::Builder::new()
+            .stack_size(1 << 30)
+            .spawn(move || kbc::lsp::serve(server_side))
+            .expect("a server thread");
         let mut client = Client { connection: client_side, server: Some(server), next_id: 1, backlog: Vec::new() };
         let root_uri = lsp_types::Url::from_file_path(root).expect("an absolute path");
         let result = client
