@@ -7,7 +7,7 @@
 //! content and then an edit that removes it.
 //!
 //! The binary is run with a virtual-memory limit (`ulimit -v`, 6 GiB: the worker thread
-//! reserves 1 GiB of stack address space, of which these inputs touch a few hundred MB) and a
+//! reserves 2 GiB of stack address space, of which these inputs touch a few hundred MB) and a
 //! wall-clock limit that only catches hangs (a debug build is slow; speed is measured by
 //! hand in release builds, see the closing notes of issue 24).
 
@@ -35,6 +35,8 @@ fn classes() -> Vec<(&'static str, String)> {
         ("chain_minus", format!("p(X) :- X is 1{}.\n", " - 1".repeat(100_000))),
         ("body_1m", format!("p :- a{}.\na.\n", ", a".repeat(1_000_000))),
         ("flat_list_1m", format!("p([a{}]).\n", ",a".repeat(1_000_000))),
+        // Past the clause limit (2,500,000 tokens): E0115, then the next clause is read.
+        ("minus_3m", format!("p(X) :- X is {}1.\nq.\n", "- ".repeat(3_000_000))),
         ("open_paren", format!("p :- {}\n", "(".repeat(10_000))),
         ("open_bracket", format!("p([{}\n", "[".repeat(10_000))),
         ("close_paren", format!("p :- a{}.\n", ")".repeat(10_000))),
@@ -112,7 +114,7 @@ fn hostile_inputs_end_with_a_diagnostic_on_every_command() {
         let file = format!("{name}.pl");
         let commands: &[&[&str]] = match name {
             // The largest inputs go through `check`; the others through every command.
-            "body_1m" | "flat_list_1m" => &[&["check"]],
+            "body_1m" | "flat_list_1m" | "minus_3m" => &[&["check"]],
             _ => &[&["check"], &["plan"], &["build", "--emit", "bt-xml"]],
         };
         for args in commands {
@@ -133,6 +135,8 @@ fn hostile_inputs_end_with_a_diagnostic_on_every_command() {
             }
         }
     }
+    let (status, stderr) = run(&dir, &["check"], "minus_3m.pl").expect("it runs");
+    assert!(status == 1 && stderr.contains("error[E0115]"), "the clause limit: {stderr}");
     assert!(failures.is_empty(), "hostile inputs that broke kbc:\n{}", failures.join("\n"));
 }
 

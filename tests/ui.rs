@@ -2,7 +2,8 @@
 //! rendered as a terminal without colour shows them, must equal `<case>.stderr` beside it.
 //!
 //! A case whose first line is `% ui: kbc ARGS` is instead run through the `kbc` binary with
-//! those arguments (`$CASE` stands for the case's path), and its stderr is compared; the exit
+//! those arguments (`$CASE` stands for the case's path; `VAR=value` words before `kbc` set
+//! environment variables), and its stderr is compared; the exit
 //! status must be 1 when that shows an error and 0 otherwise. Timings and memory figures in
 //! search statistics vary from run to run and are replaced by `[TIME]` and `[MEMORY]`.
 //!
@@ -43,18 +44,25 @@ fn cases() -> Vec<PathBuf> {
 /// the command of its `% ui:` line.
 pub fn render_case(path: &Path) -> Result<String, String> {
     let text = std::fs::read_to_string(path).expect("case is readable UTF-8");
-    if let Some(command) = text.lines().next().and_then(|line| line.strip_prefix("% ui: kbc ")) {
-        return run_command(path, command);
+    if let Some(line) = text.lines().next().and_then(|line| line.strip_prefix("% ui: ")) {
+        // `VAR=value ... kbc ARGS`: environment variables, then the command.
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let env_count = words.iter().take_while(|w| w.contains('=')).count();
+        let env: Vec<(&str, &str)> = words[..env_count].iter().filter_map(|w| w.split_once('=')).collect();
+        if words.get(env_count) == Some(&"kbc") {
+            return run_command(path, &words[env_count + 1..].join(" "), &env);
+        }
     }
     let session = Session::open_files(&[path.to_path_buf()]);
     Ok(render::all_to_string(session.db(), session.diagnostics()))
 }
 
-fn run_command(path: &Path, command: &str) -> Result<String, String> {
+fn run_command(path: &Path, command: &str, env: &[(&str, &str)]) -> Result<String, String> {
     let case = path.display().to_string();
     let args: Vec<String> = command.split_whitespace().map(|a| a.replace("$CASE", &case)).collect();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_kbc"))
         .args(&args)
+        .envs(env.iter().copied())
         .env("NO_COLOR", "1")
         .output()
         .map_err(|e| format!("cannot run kbc: {e}"))?;

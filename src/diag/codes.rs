@@ -93,6 +93,7 @@ codes! {
     BAD_NUMBER = "E0112": "number literal out of range";
     BAD_ESCAPE = "E0113": "unknown escape sequence";
     VARIABLE_FUNCTOR = "E0114": "variable used as a predicate name";
+    CLAUSE_TOO_LONG = "E0115": "a clause longer than the limit";
     UNREADABLE_FILE = "E0120": "file cannot be read";
     LOAD_CYCLE = "E0121": "`include` or `ensure_loaded` cycle";
     BAD_LOAD_DIRECTIVE = "E0122": "malformed `include` or `ensure_loaded`";

@@ -18,6 +18,12 @@
 //! fails is a compiler bug, reported by [`internal_error`]. The CLI, the language server, the
 //! runner, drafting and the ladder all go through a session: none of them spells out the
 //! pipeline again.
+//!
+//! The passes walk terms recursively, as deep as a term nests (at most the tokens of a clause,
+//! 2,500,000 by default: `syntax::parser::max_clause_tokens`, E0115 beyond). The `kbc` binary
+//! runs its session on a thread with 2 GiB of stack address space, enough for that; an
+//! embedder that wants to accept the same inputs gives its session such a thread too (on a
+//! main thread's 8 MB, terms nested some ten thousand deep are the practical limit).
 
 mod backend;
 mod frontend;

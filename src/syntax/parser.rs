@@ -176,6 +176,28 @@ impl ClauseStream<'_> {
                 self.buffer.push(token);
             }
             let (_, diags) = self.lexer.parts();
+            if self.buffer.len() > max_clause_tokens() {
+                // Every pass walks terms recursively, and a term nests at most as deep as it
+                // has tokens: this bounds the depth of that recursion.
+                let first = self.buffer[0];
+                let limit = crate::diag::group_thousands(max_clause_tokens());
+                diags.push(
+                    Diagnostic::error(
+                        codes::CLAUSE_TOO_LONG,
+                        format!("this clause has {} tokens, more than the {limit} a clause may have", crate::diag::group_thousands(self.buffer.len())),
+                    )
+                    .primary(Span::new(file, first.start, first.end), "the clause starts here")
+                    .with_note("the limit bounds how deeply a term can nest, and so the recursion of every pass over it")
+                    .with_help(format!(
+                        "split the data into several clauses, or raise the limit with the environment variable {MAX_CLAUSE_TOKENS_VAR}"
+                    )),
+                );
+                self.buffer = Vec::new(); // give the memory back
+                if end.is_none() && self.carried.is_none() {
+                    return false;
+                }
+                continue;
+            }
             let Some(last) = self.buffer.last() else {
                 match end {
                     Some(end) => {
@@ -217,6 +239,19 @@ impl ClauseStream<'_> {
             return true;
         }
     }
+}
+
+/// The environment variable that raises (or lowers) [`max_clause_tokens`].
+pub const MAX_CLAUSE_TOKENS_VAR: &str = "KBC_MAX_CLAUSE_TOKENS";
+
+/// The most tokens a clause may have: 2,500,000 (a body of a million goals has two million),
+/// or the value of [`MAX_CLAUSE_TOKENS_VAR`]. A term nests at most as deep as it has tokens,
+/// and `kbc` gives its passes a stack for a little over twice this depth.
+pub fn max_clause_tokens() -> usize {
+    static LIMIT: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *LIMIT.get_or_init(|| {
+        std::env::var(MAX_CLAUSE_TOKENS_VAR).ok().and_then(|v| v.trim().parse().ok()).unwrap_or(2_500_000)
+    })
 }
 
 /// How deeply [`canonical_clause`] nests before leaving a clause to the LR parser, whose
