@@ -178,6 +178,90 @@ impl Rung {
     }
 }
 
+/// A lower bound on the makespan of every plan of a rung, in STN time, and the three
+/// arguments it is the largest of. Each uses the least durations the KB's `duration/3` gives
+/// (asked of the engine, as the STN pass does), and holds for any plan of the standard
+/// blocks world:
+///
+/// - `work`: every block whose goal fact is not in the initial state is moved at least once,
+///   by one arm, in a cycle of grip, move and release that holds the arm from the grip's start
+///   to the release's end (`available/1` is the arm's resource); a block that must end on its
+///   own cell but on another block leaves the cell and comes back (a move changes the cell),
+///   two cycles. The arms share the sum: `ceil(sum / arms)`.
+/// - `block`: one block's cycles run one after another, so the longest block's work.
+/// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
+///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
+///   every block above it needs at least one more release after that.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LowerBound {
+    /// The bound: the largest of the three.
+    pub makespan: i64,
+    /// The total minimal work divided among the arms.
+    pub work: i64,
+    /// The most minimal work of one block.
+    pub block: i64,
+    /// The longest chain a goal tower forces.
+    pub chain: i64,
+}
+
+impl Rung {
+    /// The lower bound on the makespan of this rung's plans (see [`LowerBound`]), with the
+    /// durations of the KB `session` holds (the rung's problem 0).
+    pub fn lower_bound(&self, session: &mut Session) -> LowerBound {
+        use crate::ir::hir::Term;
+        let (init, goal) = self.towers();
+        let atom = |session: &mut Session, name: &str| Term::Atom(session.intern(name));
+        let (arm, block) = (atom(session, "a1"), atom(session, "b1"));
+        let grip = Term::Compound(session.intern("grip"), Box::new([arm.clone(), block.clone()]));
+        let release = Term::Compound(session.intern("release"), Box::new([arm.clone(), block.clone()]));
+        let (grip, release) = (session.min_duration(0, &grip), session.min_duration(0, &release));
+        let move_symbol = session.intern("move_block");
+        let moving = |session: &mut Session, from: (usize, usize), to: (usize, usize)| -> i64 {
+            let cell = |v: usize| Term::Int(v as i64);
+            let args = [arm.clone(), block.clone(), cell(from.0), cell(from.1), cell(to.0), cell(to.1)];
+            grip + session.min_duration(0, &Term::Compound(move_symbol, Box::new(args))) + release
+        };
+        // Where each block is, and what it stands on (None: the table).
+        let place = |towers: &[Tower]| -> std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)> {
+            let mut at = std::collections::BTreeMap::new();
+            for (cell, tower) in towers {
+                for (level, &b) in tower.iter().enumerate() {
+                    at.insert(b, (*cell, level.checked_sub(1).map(|l| tower[l])));
+                }
+            }
+            at
+        };
+        let (from, to) = (place(&init), place(&goal));
+        let mut works = std::collections::BTreeMap::new();
+        for (&b, &(target, below)) in &to {
+            let (start, was_below) = from[&b];
+            let work = if (start, was_below) == (target, below) {
+                0
+            } else if start == target {
+                // Off the cell to the nearest other one and back: two cycles, each at least
+                // the shortest move the KB allows from the cell.
+                let neighbour = if target.0 > 1 { (target.0 - 1, target.1) } else { (target.0 + 1, target.1) };
+                moving(session, target, neighbour) + moving(session, neighbour, target)
+            } else {
+                moving(session, start, target)
+            };
+            works.insert(b, work);
+        }
+        let total: i64 = works.values().sum();
+        let arms = self.arms.max(1) as i64;
+        let work = (total + arms - 1) / arms;
+        let block = works.values().copied().max().unwrap_or(0);
+        let mut chain = 0;
+        for (_, tower) in &goal {
+            if let Some(first) = tower.iter().position(|b| works[b] > 0) {
+                let above = (tower.len() - 1 - first) as i64;
+                chain = chain.max(works[&tower[first]] + above * release);
+            }
+        }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain }
+    }
+}
+
 /// What planning one rung gave.
 #[derive(Clone, Debug)]
 pub struct Row {
@@ -191,6 +275,8 @@ pub struct Row {
     /// The schedule's makespan and the time the plan would take one action at a time (each
     /// at its minimum duration), in STN time.
     pub makespan: Option<(i64, i64)>,
+    /// A lower bound on any plan's makespan (see [`LowerBound`]).
+    pub lower_bound: Option<LowerBound>,
     /// States expanded.
     pub expanded: u64,
     /// Wall-clock time of the search.
@@ -207,17 +293,28 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     let mut db = SourceDb::new();
     let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
     let mut session = Session::open(db, vec![root], &mut crate::passes::load::NoIncludes);
+    if session.has_errors() {
+        let why = "the generated problem does not check".to_string();
+        return Row {
+            rung: *rung,
+            search,
+            result: Err(why),
+            makespan: None,
+            lower_bound: None,
+            expanded: 0,
+            elapsed: started.elapsed(),
+        };
+    }
+    let lower_bound = Some(rung.lower_bound(&mut session));
     let failed = |message: String, expanded: u64, elapsed: Duration| Row {
         rung: *rung,
         search,
         result: Err(message),
         makespan: None,
+        lower_bound,
         expanded,
         elapsed,
     };
-    if session.has_errors() {
-        return failed("the generated problem does not check".into(), 0, started.elapsed());
-    }
     let settings = PlanSettings {
         search,
         max_depth,
@@ -252,6 +349,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
         search,
         makespan: result.as_ref().ok().copied(),
         result: result.map(|_| length),
+        lower_bound,
         expanded: stats.expanded,
         elapsed: stats.elapsed,
     }

@@ -129,6 +129,23 @@ fn the_ladder_up_to_twenty_blocks_is_solved_and_every_plan_validates() {
 }
 
 #[test]
+fn the_makespan_lower_bound_holds_for_every_plan_found() {
+    // The bound claims no plan can be shorter: every plan the heuristic search finds (and
+    // validates, schedules and reassigns) must be at least as long, on every family.
+    let mut tight = 0;
+    for rung in ladder::standard().into_iter().filter(|r| r.blocks <= 12) {
+        let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
+        let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+        assert!(bound.makespan > 0, "{}: a bound of nothing", rung.name());
+        assert!(bound.makespan <= makespan, "{}: bound {bound:?} above the makespan {makespan}", rung.name());
+        assert_eq!(bound.makespan, bound.work.max(bound.block).max(bound.chain));
+        tight += usize::from(makespan * 100 <= bound.makespan * 130);
+    }
+    // And it says something: within 1.3x of the plan on a good part of the rungs.
+    assert!(tight >= 8, "the bound is within 1.3x of the plan on only {tight} rungs");
+}
+
+#[test]
 fn ladder_problems_are_reproducible_and_well_formed() {
     let rung = Rung { family: Family::Swap, blocks: 12, arms: 4, seed: 7 };
     assert_eq!(rung.source(), rung.source());

@@ -79,8 +79,8 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
     if args.format == Format::Text {
         let _ = writeln!(
             out,
-            "{:<20} {:<9} {:>7} {:>9} {:>7} {:>9} {:>9}  {:>9}  result",
-            "problem", "search", "length", "makespan", "speedup", "expanded", "seconds", "paper/heur"
+            "{:<20} {:<9} {:>7} {:>9} {:>9} {:>6} {:>7} {:>9} {:>9}  {:>9}  result",
+            "problem", "search", "length", "makespan", "bound", "ratio", "speedup", "expanded", "seconds", "paper/heur"
         );
     }
     let mut rows: Vec<Row> = Vec::new();
@@ -106,11 +106,16 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                 };
                 let _ = writeln!(
                     out,
-                    "{:<20} {:<9} {:>7} {:>9} {:>7} {:>9} {:>9.3}  {:>9}  {}",
+                    "{:<20} {:<9} {:>7} {:>9} {:>9} {:>6} {:>7} {:>9} {:>9.3}  {:>9}  {}",
                     rung.name(),
                     search_name(search),
                     row.result.as_ref().map_or("-".to_string(), |n| n.to_string()),
                     row.makespan.map_or("-".to_string(), |(m, _)| format_time(m)),
+                    row.lower_bound.map_or("-".to_string(), |b| format_time(b.makespan)),
+                    match (row.makespan, row.lower_bound) {
+                        (Some((m, _)), Some(b)) if b.makespan > 0 => format!("{:.2}x", m as f64 / b.makespan as f64),
+                        _ => "-".to_string(),
+                    },
                     row.makespan.map_or("-".to_string(), |(m, s)| format!("{:.2}x", s as f64 / m.max(1) as f64)),
                     row.expanded,
                     row.elapsed.as_secs_f64(),
@@ -141,6 +146,12 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                     "failure": row.result.as_ref().err(),
                     "makespan": row.makespan.map(|(m, _)| m as f64 / UNITS as f64),
                     "sequential": row.makespan.map(|(_, s)| s as f64 / UNITS as f64),
+                    "lower_bound": row.lower_bound.map(|b| serde_json::json!({
+                        "makespan": b.makespan as f64 / UNITS as f64,
+                        "work": b.work as f64 / UNITS as f64,
+                        "block": b.block as f64 / UNITS as f64,
+                        "chain": b.chain as f64 / UNITS as f64,
+                    })),
                     "expanded": row.expanded,
                     "seconds": row.elapsed.as_secs_f64(),
                 })

@@ -31,7 +31,7 @@ fn default_bounds() -> Bounds {
 }
 
 /// A number of KB time units as STN time, rounded to the nearest thousandth.
-fn to_stn_time(value: f64) -> Option<i64> {
+pub(crate) fn to_stn_time(value: f64) -> Option<i64> {
     let scaled = (value * UNITS as f64).round();
     (scaled.is_finite() && scaled.abs() < 1e15).then_some(scaled as i64)
 }

@@ -659,6 +659,19 @@ impl Session {
         std::iter::once(facts(&task.init)).chain(states.iter().map(facts)).collect()
     }
 
+    /// The least duration of the durative action `instance` (such as `grip(a1, b1)`) in STN
+    /// time, as the STN pass takes it from `duration/3` for `problem`: the default (1 time
+    /// unit) when no clause answers or its answer cannot be used.
+    pub fn min_duration(&mut self, problem: usize, instance: &crate::ir::hir::Term) -> i64 {
+        let program = self.program(problem);
+        let mut machine = crate::engine::Machine::new(&program, planner::Budget::default().engine_steps);
+        let default = crate::ir::stn::DEFAULT_DURATION * crate::ir::stn::UNITS;
+        match crate::passes::stn::query_duration(&mut machine, instance) {
+            Ok(Some((min, _))) => crate::passes::stn::to_stn_time(min).filter(|&m| m >= 0).unwrap_or(default),
+            _ => default,
+        }
+    }
+
     /// The temporal passes on one plan: its partial order, STN and schedule, or `None` with
     /// the reason (a negative cycle, a duration that cannot be used) in the sink.
     pub fn schedule(&mut self, plan: &Plan) -> Option<Timed> {
