@@ -57,10 +57,11 @@ enum Command {
     Validate(validate::ValidateArgs),
     /// Run the planner's scaling ladder: generated multi-arm blocks-world problems.
     ///
-    /// Plans every rung (build, reverse and swap problems from 2 blocks and 3 arms up to 30
-    /// blocks and 6 arms) with the heuristic search and the paper's search, each under a
+    /// Plans every rung (build, reverse and swap problems from 2 blocks and 3 arms up to 100
+    /// blocks and 10 arms) with the heuristic search and the paper's search, each under a
     /// time budget, validates every plan, and prints plan length, makespan, states expanded,
-    /// time and the paper/heuristic time ratio. `--write DIR` writes the goal files instead.
+    /// the makespan's lower bound and their ratio, time and the paper/heuristic time ratio.
+    /// `--write DIR` writes the goal files instead.
     Bench(bench::BenchArgs),
     /// Compile a problem into behaviour-tree bytecode for the VM.
     ///
