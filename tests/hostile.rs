@@ -47,6 +47,14 @@ fn classes() -> Vec<(&'static str, String)> {
                 .into(),
         ),
         ("loop", "l :- l.\naction(go, [], [], [], [l], [add(done)]).\nt :- go([], [done]).\n".into()),
+        // 10^7 ways to fail: the step budget ends it (E0308).
+        (
+            "exponential",
+            "m(1). m(2). m(3). m(4). m(5). m(6). m(7). m(8). m(9). m(10).\n\
+             slow :- m(A), m(B), m(C), m(D), m(E), m(F), m(G), A+B+C+D+E+F+G > 100.\n\
+             action(go, [], [], [], [slow], [add(done)]).\nt :- go([], [done]).\n"
+                .into(),
+        ),
         ("inc_urandom", ":- include('/dev/urandom').\n".into()),
         ("inc_zero", ":- include('/dev/zero').\n".into()),
         ("inc_dir", ":- include('/tmp').\n".into()),
@@ -134,6 +142,10 @@ fn hostile_inputs_end_with_a_diagnostic_on_every_command() {
                 Err(why) => failures.push(format!("{name} `{}`: {why}", args.join(" "))),
             }
         }
+    }
+    for (file, code) in [("loop.pl", "error[E0308]"), ("exponential.pl", "error[E0308]")] {
+        let (status, stderr) = run(&dir, &["plan"], file).expect("it runs");
+        assert!(status == 1 && stderr.contains(code), "{file}: the step budget: {stderr}");
     }
     let (status, stderr) = run(&dir, &["check"], "minus_3m.pl").expect("it runs");
     assert!(status == 1 && stderr.contains("error[E0115]"), "the clause limit: {stderr}");
