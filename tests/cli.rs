@@ -544,3 +544,29 @@ fn a_bytecode_file_the_host_cannot_run_is_refused_before_it_starts() {
     // The trace host runs any action.
     assert_eq!(kbc(&["run", program, "--host", "trace"]).status.code(), Some(0));
 }
+
+#[test]
+fn a_timed_plan_with_quoted_atoms_validates() {
+    // The PDDL-style printer drops the spaces between an argument's tokens; those inside a
+    // quoted atom are part of the name and must stay, or `kbc validate` rejects the plan.
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("quoted");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let kb = dir.join("quoted.pl");
+    std::fs::write(
+        &kb,
+        "room('room & hall'). room(lab).\n\
+         action(go_start(R, P), [at(lab)], [], [], [room(R), P = f(R, 'a b')], [del(at(lab)), add(going(R))]).\n\
+         action(go_end(R, P), [going(R)], [], [], [], [del(going(R)), add(at(R))]).\n\
+         t :- go([at(lab)], [at('room & hall')]).\n",
+    )
+    .expect("written");
+    let kb = kb.to_str().expect("UTF-8 path");
+    let out = kbc(&["plan", kb, "--schedule"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("(go 'room & hall' f('room & hall','a b'))"), "{text}");
+    let plan = dir.join("timed.txt");
+    std::fs::write(&plan, &text).expect("written");
+    let check = kbc(&["validate", kb, plan.to_str().expect("UTF-8 path")]);
+    assert_eq!(check.status.code(), Some(0), "{}\n{text}", stderr(&check));
+}
