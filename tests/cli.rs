@@ -570,3 +570,31 @@ fn a_timed_plan_with_quoted_atoms_validates() {
     let check = kbc(&["validate", kb, plan.to_str().expect("UTF-8 path")]);
     assert_eq!(check.status.code(), Some(0), "{}\n{text}", stderr(&check));
 }
+
+#[test]
+fn a_picture_is_the_whole_output_and_a_dash_means_stdout() {
+    let kb = "examples/02_llm_stacking/test_case.pl";
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("emit");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    // To a file: nothing else on stdout (the plan is not printed as well).
+    let svg = dir.join("gantt.svg");
+    let out = kbc(&["plan", kb, "--emit", "gantt-svg", "-o", svg.to_str().expect("UTF-8")]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "");
+    assert!(std::fs::read_to_string(&svg).expect("written").starts_with("<svg"));
+    // `-o -`: stdout, and no file named `-`.
+    let out = Command::new(env!("CARGO_BIN_EXE_kbc"))
+        .current_dir(&dir)
+        .args(["plan", &std::fs::canonicalize(kb).expect("exists").to_string_lossy(), "--emit", "pop-dot", "-o", "-"])
+        .output()
+        .expect("kbc runs");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).starts_with("digraph"), "{}", stdout(&out));
+    assert!(!dir.join("-").exists(), "a file named `-` was written");
+}
+
+#[test]
+fn the_version_names_the_commit() {
+    let version = stdout(&kbc(&["--version"]));
+    assert!(version.starts_with("kbc 0.1.0 (") && version.trim_end().ends_with(')'), "{version}");
+}

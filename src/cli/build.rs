@@ -9,7 +9,7 @@ use kbvm::Program;
 use kbvm::bytecode::MAGIC;
 
 use super::plan::{Planned, PlanningArgs, plan_and_schedule};
-use super::{MessageFormat, report};
+use super::{MessageFormat, report, write_output};
 use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::execute;
 use crate::recover;
@@ -301,14 +301,6 @@ fn record_json(sim: &kbvm::sim::SimHost) -> String {
     let mut text = serde_json::to_string(&value).expect("JSON of plain values");
     text.push('\n');
     text
-}
-
-/// Writes a file all at once (or not at all); a failure is reported and gives exit status 1.
-fn write_output(path: &Path, bytes: &[u8]) -> Result<(), ExitCode> {
-    super::write_atomically(path, bytes).map_err(|error| {
-        eprintln!("error: cannot write `{}`: {error}", path.display());
-        ExitCode::from(1)
-    })
 }
 
 /// A host over `world` with the faults asked for, their open parts drawn from `seed`.

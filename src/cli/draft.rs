@@ -314,11 +314,12 @@ fn run_ask(args: AskArgs, color: bool) -> ExitCode {
             let text = written_file(&code, &task, &model_name, round + 1, &args.files, &drafted.rounds[round].checked);
             match &args.output {
                 Some(path) => {
-                    if let Err(error) = super::write_atomically(path, text.as_bytes()) {
-                        eprintln!("error: cannot write `{}`: {}", path.display(), super::io_reason(&error));
-                        return ExitCode::from(1);
+                    if let Err(status) = super::write_output(path, text.as_bytes()) {
+                        return status;
                     }
-                    eprintln!("wrote {}", path.display());
+                    if path.as_os_str() != "-" {
+                        eprintln!("wrote {}", path.display());
+                    }
                 }
                 None => print!("{text}"),
             }

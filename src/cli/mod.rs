@@ -23,9 +23,12 @@ pub mod llm;
 mod plan;
 mod validate;
 
+/// The version `--version` prints: the crate's, and the commit it was built from.
+const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (", env!("KBC_COMMIT"), ")");
+
 /// Compile robot knowledge bases into behaviour trees.
 #[derive(Parser)]
-#[command(name = "kbc", version, about, long_about = None, propagate_version = true)]
+#[command(name = "kbc", version = VERSION, about, long_about = None, propagate_version = true)]
 struct Cli {
     /// When to use colour in diagnostics.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto, global = true)]
@@ -158,6 +161,12 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Whether `--color auto` colours: on a terminal, unless `NO_COLOR` is set (and not empty)
+/// or the terminal says it is `dumb`.
+fn auto_color(terminal: bool, no_color: Option<std::ffi::OsString>, term: Option<std::ffi::OsString>) -> bool {
+    terminal && no_color.is_none_or(|v| v.is_empty()) && term.is_none_or(|t| t != "dumb")
+}
+
 /// The stack of the thread that does the work: 2 GiB of address space. A clause has at most
 /// 2,500,000 tokens (E0115), so no term nests deeper; the deepest shape measured (a chain of
 /// unary minus, the largest frames) needs about 1 GiB at 4,000,000 (see `tests/hostile.rs`).
@@ -168,7 +177,9 @@ fn run() -> ExitCode {
     let color = match cli.color {
         ColorWhen::Always => true,
         ColorWhen::Never => false,
-        ColorWhen::Auto => std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty()),
+        ColorWhen::Auto => {
+            auto_color(std::io::stderr().is_terminal(), std::env::var_os("NO_COLOR"), std::env::var_os("TERM"))
+        }
     };
     match cli.command {
         Command::Check(args) => check(args, color),
@@ -186,6 +197,19 @@ fn run() -> ExitCode {
 }
 
 pub(crate) use crate::source::fs::{io_reason, read_text, unreadable};
+
+/// Writes an output file all at once (or not at all), `-` meaning stdout; a failure is
+/// reported and gives exit status 1.
+pub(crate) fn write_output(path: &Path, bytes: &[u8]) -> Result<(), ExitCode> {
+    if path.as_os_str() == "-" {
+        let _ = std::io::stdout().lock().write_all(bytes);
+        return Ok(());
+    }
+    write_atomically(path, bytes).map_err(|error| {
+        eprintln!("error: cannot write `{}`: {}", path.display(), io_reason(&error));
+        ExitCode::from(1)
+    })
+}
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
 /// `path` never holds a half-written file.
@@ -265,5 +289,20 @@ fn explain(code: &str) -> ExitCode {
             eprintln!("note: codes look like E0102 or W0001; `kbc check` prints them in brackets");
             ExitCode::from(1)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::auto_color;
+
+    #[test]
+    fn colour_needs_a_terminal_that_is_not_dumb_and_no_no_color() {
+        let some = |s: &str| Some(std::ffi::OsString::from(s));
+        assert!(auto_color(true, None, some("xterm-256color")));
+        assert!(auto_color(true, some(""), None), "an empty NO_COLOR does not count");
+        assert!(!auto_color(false, None, some("xterm")), "a pipe");
+        assert!(!auto_color(true, some("1"), some("xterm")), "NO_COLOR");
+        assert!(!auto_color(true, None, some("dumb")), "TERM=dumb");
     }
 }

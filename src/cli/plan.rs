@@ -91,7 +91,7 @@ pub(super) struct PlanArgs {
     /// an SVG Gantt chart with one lane per arm.
     #[arg(long, value_enum, value_name = "KIND")]
     emit: Option<Emit>,
-    /// Where `--emit` writes (default: stdout).
+    /// Where `--emit` writes (default, or `-`: stdout); the plan itself is not printed then.
     #[arg(short, long, value_name = "FILE", requires = "emit")]
     output: Option<PathBuf>,
 }
@@ -226,18 +226,14 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
             Emit::StnDot => render::dot::stn(interner, &timed.pop, &timed.stn),
             Emit::GanttSvg => render::gantt::svg(interner, kb, &timed.pop, &timed.schedule),
         };
-        match &args.output {
-            Some(path) => {
-                if let Err(error) = super::write_atomically(path, text.as_bytes()) {
-                    eprintln!("error: cannot write `{}`: {error}", path.display());
-                    return ExitCode::from(1);
-                }
+        // The picture is the output: the plan is not printed as well.
+        return match &args.output {
+            Some(path) => super::write_output(path, text.as_bytes()).err().unwrap_or(ExitCode::SUCCESS),
+            None => {
+                print_out(&text);
+                ExitCode::SUCCESS
             }
-            None => print_out(&text),
-        }
-        if args.output.is_none() {
-            return ExitCode::SUCCESS;
-        }
+        };
     }
     let problem_name = interner.resolve(kb.problems[problem].name).to_string();
     let figures = Figures::of(timed, planned.stats.as_ref(), planned.index, planned.plans.len());
