@@ -598,3 +598,20 @@ fn the_version_names_the_commit() {
     let version = stdout(&kbc(&["--version"]));
     assert!(version.starts_with("kbc 0.1.0 (") && version.trim_end().ends_with(')'), "{version}");
 }
+
+#[test]
+fn every_json_line_says_what_it_is() {
+    // Diagnostics, then the result, on one stream: each line's `type` tells them apart.
+    let out = kbc(&["plan", "examples/02_llm_stacking/test_case.pl", "--format", "json", "--message-format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let types: Vec<String> = stdout(&out)
+        .lines()
+        .map(|line| {
+            let value: serde_json::Value = serde_json::from_str(line).expect("a JSON object a line");
+            value["type"].as_str().expect("a type").to_string()
+        })
+        .collect();
+    assert_eq!(types.last().map(String::as_str), Some("plan"), "{types:?}");
+    assert!(types[..types.len() - 1].iter().all(|t| t == "diagnostic"), "{types:?}");
+    assert!(types.len() >= 2, "the std-domain note comes first: {types:?}");
+}

@@ -380,6 +380,7 @@ fn plan_json(
         })
         .collect();
     let mut value = serde_json::json!({
+        "type": "plan",
         "problem": problem,
         "origin": origin,
         "steps": steps,

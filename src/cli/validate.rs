@@ -54,7 +54,7 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
         MessageFormat::Json => {
             println!(
                 "{}",
-                serde_json::json!({ "valid": true, "timed": timed, "problem": problem_name, "steps": steps.len() })
+                serde_json::json!({ "type": "validation", "valid": true, "timed": timed, "problem": problem_name, "steps": steps.len() })
             )
         }
     }

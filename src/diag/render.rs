@@ -162,6 +162,10 @@ struct JsonFix<'a> {
 
 #[derive(serde::Serialize)]
 struct JsonDiagnostic<'a> {
+    /// What the line is: always `"diagnostic"` (results of a command are other types), so a
+    /// tool reading `--message-format json` can tell them apart, as cargo's `reason` does.
+    #[serde(rename = "type")]
+    kind: &'static str,
     code: Option<&'a str>,
     severity: Severity,
     message: &'a str,
@@ -183,6 +187,7 @@ struct JsonDiagnostic<'a> {
 /// `rendered`, the human form.
 pub fn to_json(db: &SourceDb, diagnostic: &Diagnostic) -> String {
     let json = JsonDiagnostic {
+        kind: "diagnostic",
         code: diagnostic.code.map(|c| c.as_str()),
         severity: diagnostic.severity,
         message: &diagnostic.message,
