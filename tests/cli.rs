@@ -615,3 +615,21 @@ fn every_json_line_says_what_it_is() {
     assert!(types[..types.len() - 1].iter().all(|t| t == "diagnostic"), "{types:?}");
     assert!(types.len() >= 2, "the std-domain note comes first: {types:?}");
 }
+
+#[test]
+fn quiet_drops_notes_and_status_lines_but_not_warnings() {
+    let noisy = kbc(&["check", "examples/02_llm_stacking/test_case.pl"]);
+    assert!(stderr(&noisy).contains("note: no action schemas given"), "{}", stderr(&noisy));
+    let quiet = kbc(&["check", "-q", "examples/02_llm_stacking/test_case.pl"]);
+    assert_eq!((quiet.status.code(), stderr(&quiet).as_str()), (Some(0), ""));
+    // Warnings stay.
+    let warned = kbc(&["--quiet", "check", "tests/ui/warnings/singleton_variables.pl"]);
+    assert!(stderr(&warned).contains("warning[W0001]"), "{}", stderr(&warned));
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("quiet-pddl");
+    let export =
+        kbc(&["export", "pddl", "examples/02_llm_stacking/test_case.pl", "-q", "-o", dir.to_str().expect("UTF-8")]);
+    assert_eq!(export.status.code(), Some(0), "{}", stderr(&export));
+    assert!(!stderr(&export).contains("wrote"), "no status line: {}", stderr(&export));
+    assert!(stderr(&export).contains("warning[W0007]"), "the warning stays: {}", stderr(&export));
+    assert!(dir.join("domain.pddl").exists());
+}

@@ -186,6 +186,6 @@ fn write_rungs(dir: &std::path::Path, rungs: &[Rung]) -> ExitCode {
         }
     }
     let files = if rungs.len() == 1 { "goal file" } else { "goal files" };
-    println!("wrote {} {files} to {}", rungs.len(), dir.display());
+    super::status(&format!("wrote {} {files} to {}", rungs.len(), dir.display()));
     ExitCode::SUCCESS
 }

@@ -318,7 +318,7 @@ fn run_ask(args: AskArgs, color: bool) -> ExitCode {
                         return status;
                     }
                     if path.as_os_str() != "-" {
-                        eprintln!("wrote {}", path.display());
+                        super::status(&format!("wrote {}", path.display()));
                     }
                 }
                 None => print!("{text}"),

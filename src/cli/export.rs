@@ -92,7 +92,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
     }
     report(session.db(), session.diagnostics(), args.message_format, color);
     if args.message_format == MessageFormat::Human {
-        eprintln!("wrote {}/{{domain.pddl, problem.pddl, names.json}}", args.output.display());
+        super::status(&format!("wrote {}/{{domain.pddl, problem.pddl, names.json}}", args.output.display()));
     }
     ExitCode::SUCCESS
 }

@@ -33,6 +33,10 @@ struct Cli {
     /// When to use colour in diagnostics.
     #[arg(long, value_enum, default_value_t = ColorWhen::Auto, global = true)]
     color: ColorWhen,
+    /// Print no notes (such as "using the standard blocks world") and no status lines
+    /// ("wrote ..."); warnings, errors and results are printed as ever.
+    #[arg(short, long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -174,6 +178,7 @@ const STACK_BYTES: usize = 2 << 30;
 
 fn run() -> ExitCode {
     let cli = Cli::parse();
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let color = match cli.color {
         ColorWhen::Always => true,
         ColorWhen::Never => false,
@@ -257,7 +262,33 @@ pub(crate) fn fail(db: &SourceDb, diagnostics: &Diagnostics, format: MessageForm
     ExitCode::from(1)
 }
 
+/// `--quiet`: set once, when the arguments are parsed.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether `--quiet` was given: no notes, no status lines.
+pub(crate) fn quiet() -> bool {
+    QUIET.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Prints a status line ("wrote ...") on stderr, unless `--quiet`.
+pub(crate) fn status(line: &str) {
+    if !quiet() {
+        eprintln!("{line}");
+    }
+}
+
 pub(crate) fn report(db: &SourceDb, diagnostics: &Diagnostics, format: MessageFormat, color: bool) {
+    let kept;
+    let diagnostics = if quiet() {
+        let mut without_notes = Diagnostics::new();
+        for diagnostic in diagnostics.iter().filter(|d| d.severity != crate::diag::Severity::Note) {
+            without_notes.push(diagnostic.clone());
+        }
+        kept = without_notes;
+        &kept
+    } else {
+        diagnostics
+    };
     match format {
         MessageFormat::Human => {
             if render::emit_to_terminal(db, diagnostics, color).is_err() {
