@@ -135,8 +135,14 @@ fn check_well_formed(exported: &Exported) {
         let p = list(p);
         predicates.insert(atom(&p[0]).to_string(), p.len() - 1);
     }
-    let objects: BTreeSet<String> =
+    // The domain's actions may name only the domain's constants (a planner reads the domain
+    // before any problem); the problem names its objects and those constants.
+    let constants: BTreeSet<String> =
+        section(domain, ":constants").unwrap_or_default().iter().map(|o| atom(o).to_string()).collect();
+    let problem_objects: BTreeSet<String> =
         section(problem, ":objects").expect("objects").iter().map(|o| atom(o).to_string()).collect();
+    assert!(constants.is_disjoint(&problem_objects), "a constant declared again as an object");
+    let objects: BTreeSet<String> = constants.union(&problem_objects).cloned().collect();
     // Every object maps back to a KB term, and nothing else is in the map.
     let mapped: BTreeSet<String> = exported.names["objects"].as_object().expect("objects").keys().cloned().collect();
     assert_eq!(mapped, objects);
@@ -167,7 +173,7 @@ fn check_well_formed(exported: &Exported) {
                         .collect();
                     assert_eq!(listed, vars, "parameters of `{name}`");
                 }
-                ":condition" | ":precondition" | ":effect" => check_formula(value, &predicates, &vars, &objects),
+                ":condition" | ":precondition" | ":effect" => check_formula(value, &predicates, &vars, &constants),
                 _ => {}
             }
             i += 2;

@@ -759,14 +759,31 @@ impl Exporter<'_> {
         let goal: Vec<String> = task.goal.clone().iter().map(|l| self.literal(l, &goal_vars, None)).collect();
         let mut objects: Vec<(String, ConstId)> = self.objects.iter().map(|(c, n)| (n.clone(), *c)).collect();
         objects.sort();
+        // Objects the domain's actions name (the complements of an Invalid literal with an
+        // anonymous argument expand over them) are the domain's constants: declared there, and
+        // not again among the problem's objects.
+        let in_domain: BTreeSet<&str> =
+            domain.split(|c: char| c.is_whitespace() || c == '(' || c == ')').filter(|w| !w.is_empty()).collect();
+        let constants: Vec<&str> = objects.iter().map(|(n, _)| n.as_str()).filter(|n| in_domain.contains(n)).collect();
+        if !constants.is_empty() {
+            let mut lines = String::from("  (:constants\n");
+            for chunk in constants.chunks(12) {
+                lines.push_str(&format!("    {}\n", chunk.join(" ")));
+            }
+            lines.push_str("  )\n");
+            let at = domain.find("  (:predicates").expect("the domain declares its predicates");
+            domain.insert_str(at, &lines);
+        }
+        let constants: BTreeSet<String> = constants.into_iter().map(str::to_string).collect();
         let mut text = String::new();
         writeln!(text, "; Written by kbc export pddl from problem `{problem_name}` of the KB.").unwrap();
         writeln!(text, "(define (problem {})", self.object_names.fresh(&problem_name)).unwrap();
         writeln!(text, "  (:domain {domain_name})").unwrap();
         writeln!(text, "  (:objects").unwrap();
-        for chunk in objects.chunks(12) {
-            let names: Vec<&str> = chunk.iter().map(|(n, _)| n.as_str()).collect();
-            writeln!(text, "    {}", names.join(" ")).unwrap();
+        let problem_objects: Vec<&str> =
+            objects.iter().map(|(n, _)| n.as_str()).filter(|n| !constants.contains(*n)).collect();
+        for chunk in problem_objects.chunks(12) {
+            writeln!(text, "    {}", chunk.join(" ")).unwrap();
         }
         writeln!(text, "  )").unwrap();
         writeln!(text, "  (:init").unwrap();
