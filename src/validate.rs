@@ -62,26 +62,42 @@ impl PlanStep {
     }
 }
 
-/// A time as PDDL plans write it (`12`, `1.5`, `0.001`), in thousandths; `None` if it is not
-/// a non-negative number with at most three decimals.
+/// A time as PDDL plans write it (`12`, `1.5`, `0.001`, `0.0030` as LPG prints it), in
+/// thousandths, rounded to the nearest (kbc keeps times to a thousandth); `None` if it is not
+/// a non-negative decimal number.
 fn parse_time(text: &str) -> Option<i64> {
     let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
     if whole.is_empty() && fraction.is_empty()
         || !whole.bytes().all(|b| b.is_ascii_digit())
         || !fraction.bytes().all(|b| b.is_ascii_digit())
-        || fraction.len() > 3
     {
         return None;
     }
     let whole: i64 = if whole.is_empty() { 0 } else { whole.parse().ok()? };
-    let fraction: i64 = if fraction.is_empty() { 0 } else { format!("{fraction:0<3}").parse().ok()? };
-    whole.checked_mul(crate::ir::stn::UNITS)?.checked_add(fraction)
+    let (kept, rest) = fraction.split_at(fraction.len().min(3));
+    let mut thousandths: i64 = if kept.is_empty() { 0 } else { format!("{kept:0<3}").parse().ok()? };
+    if rest.as_bytes().first().is_some_and(|&d| d >= b'5') {
+        thousandths += 1; // round half up on the first digit dropped
+    }
+    whole.checked_mul(crate::ir::stn::UNITS)?.checked_add(thousandths)
 }
 
 /// A line of a timed plan, `0.000: (grip a1 b2) [1.000]`: the start, the action as a term's
 /// text (`grip(a1, b2)`), its offset in the line, and the duration. `None` if the line is
 /// not of that shape.
 fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
+    // A `;` comment after the step (outside quotes), as other planners write them.
+    let mut quoted = false;
+    let end = line
+        .char_indices()
+        .find(|&(_, c)| {
+            if c == '\'' {
+                quoted = !quoted;
+            }
+            c == ';' && !quoted
+        })
+        .map_or(line.len(), |(i, _)| i);
+    let line = line[..end].trim_end();
     let (time, rest) = line.split_once(':')?;
     let time = parse_time(time.trim())?;
     let open = rest.find('(')?;
@@ -116,6 +132,13 @@ fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
     if !word.is_empty() {
         words.push(word);
     }
+    // PDDL names are case-insensitive, and planners print them in either case (LPG in upper
+    // case); the KB's names are lower case. A quoted atom keeps its case.
+    for word in &mut words {
+        if !word.starts_with('\'') {
+            *word = word.to_lowercase();
+        }
+    }
     let (name, args) = words.split_first()?;
     let text = if args.is_empty() { name.clone() } else { format!("{name}({})", args.join(", ")) };
     let offset = line.len() - rest.len() + open;
@@ -123,9 +146,10 @@ fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
 }
 
 /// Reads a plan file: one step per line, optionally numbered and ended by `.`; lines starting
-/// with `%` and blank lines are skipped. A timed plan has lines such as
+/// with `%` or `;` and blank lines are skipped. A timed plan has lines such as
 /// `0.000: (grip a1 b2) [1.000]` instead (the PDDL 2.1 plan format that `kbc plan --schedule`
-/// prints); a file is one or the other.
+/// prints, and other planners in any case, with any number of decimals and `;` comments); a
+/// file is one or the other.
 pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut Diagnostics) -> Vec<PlanStep> {
     let mut steps: Vec<PlanStep> = Vec::new();
     let mut offset = 0usize;
@@ -133,7 +157,8 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
         let line_start = offset;
         offset += line.len();
         let trimmed = line.trim();
-        if trimmed.is_empty() || trimmed.starts_with('%') {
+        // `%` comments (kbc's) and `;` comments (PDDL planners').
+        if trimmed.is_empty() || trimmed.starts_with('%') || trimmed.starts_with(';') {
             continue;
         }
         if let Some((time, term_text, at, duration)) = timed_line(line.trim_end()) {
@@ -953,4 +978,17 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
         ));
     }
     Verdict { diagnostics, applied: events.len(), plan }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn times_have_any_number_of_decimals_and_are_rounded_to_thousandths() {
+        let times = ["12", "1.5", "0.001", "0.0015", "1.2344", "1.2345", ".5", "3."].map(super::parse_time);
+        assert_eq!(
+            times,
+            [Some(12_000), Some(1_500), Some(1), Some(2), Some(1_234), Some(1_235), Some(500), Some(3_000)]
+        );
+        assert_eq!(["", ".", "-1", "1e3", "1.2.3"].map(super::parse_time), [None; 5]);
+    }
 }

@@ -633,3 +633,23 @@ fn quiet_drops_notes_and_status_lines_but_not_warnings() {
     assert!(stderr(&export).contains("warning[W0007]"), "the warning stays: {}", stderr(&export));
     assert!(dir.join("domain.pddl").exists());
 }
+
+#[test]
+fn validate_reads_timed_plans_as_other_planners_print_them() {
+    // Upper-case names, `;` comments, four decimals: kbc's own schedule, printed as LPG would.
+    let kb = "examples/02_llm_stacking/test_case.pl";
+    let schedule = stdout(&kbc(&["plan", kb, "--schedule", "-q"]));
+    let mut other = String::from("; Plan computed by another planner\n; Time 0.02\n");
+    for line in schedule.lines().filter(|l| !l.starts_with('%')) {
+        let (time, rest) = line.split_once(": ").expect("a timed line");
+        let (action, duration) = rest.rsplit_once(" [").expect("a duration");
+        let duration = duration.trim_end_matches(']');
+        other.push_str(&format!("{time}0: {} [{duration}0] ; step\n", action.to_uppercase()));
+    }
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("other-planner");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("plan.txt");
+    std::fs::write(&path, &other).expect("written");
+    let out = kbc(&["validate", kb, path.to_str().expect("UTF-8")]);
+    assert_eq!(out.status.code(), Some(0), "{}\n{other}", stderr(&out));
+}
