@@ -301,6 +301,22 @@ fn solve_and_validate(kb: &[&str], exported: &Exported) {
         "kbc rejects Kairos's plan for {kb:?}:\n{timed}\n{}",
         String::from_utf8_lossy(&validated.stderr)
     );
+    // And as a user would: Kairos's output as it is, read back by `kbc validate --names`.
+    let raw = exported.dir.join("kairos-raw.txt");
+    std::fs::write(&raw, plan.as_bytes()).expect("writable");
+    let through_names = Command::new(env!("CARGO_BIN_EXE_kbc"))
+        .arg("validate")
+        .args(kb)
+        .arg(&raw)
+        .arg("--names")
+        .arg(exported.dir.join("names.json"))
+        .output()
+        .expect("kbc runs");
+    assert!(
+        through_names.status.success(),
+        "kbc validate --names rejects Kairos's plan for {kb:?}:\n{plan}\n{}",
+        String::from_utf8_lossy(&through_names.stderr)
+    );
 }
 
 #[test]

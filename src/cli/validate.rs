@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use super::{MessageFormat, report};
 use crate::session::Session;
+use crate::source::{FileId, Span};
 
 #[derive(clap::Args)]
 pub(super) struct ValidateArgs {
@@ -17,6 +18,10 @@ pub(super) struct ValidateArgs {
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
+    /// The plan is another planner's, for the problem `kbc export pddl` wrote with this
+    /// `names.json`: its PDDL actions and objects are read back as the KB's.
+    #[arg(long, value_name = "FILE")]
+    names: Option<PathBuf>,
 }
 
 pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
@@ -30,6 +35,13 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
     let fail = |session: &Session| super::fail(session.db(), session.diagnostics(), args.message_format, color);
     let (Some(problem), Some(plan_file)) = (session.problem(args.problem.as_deref()), plan_file) else {
         return fail(&session);
+    };
+    let plan_file = match &args.names {
+        Some(names) => match from_pddl(&mut session, plan_file, names) {
+            Some(file) => file,
+            None => return fail(&session),
+        },
+        None => plan_file,
     };
     let Some(steps) = session.read_plan_steps(plan_file) else { return fail(&session) };
     let timed = steps.first().is_some_and(|s| s.timing.is_some());
@@ -59,4 +71,41 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// Writes the plan in `file` back in the KB's terms through `names` (`names.json` of `kbc
+/// export pddl`): the new text's file, or `None` with the reason in the session.
+fn from_pddl(session: &mut Session, file: FileId, names: &std::path::Path) -> Option<FileId> {
+    use crate::diag::{Diagnostic, codes};
+    let json = match crate::source::fs::read_text(names) {
+        Ok(text) => serde_json::from_str::<serde_json::Value>(&text).map_err(|e| e.to_string()),
+        Err(reason) => Err(reason),
+    };
+    let names_json = match json {
+        Ok(value) => value,
+        Err(reason) => {
+            session.push(super::unreadable(names, &reason).with_help("give the names.json `kbc export pddl` wrote"));
+            return None;
+        }
+    };
+    let text = session.db().file(file).text_arc();
+    match crate::render::pddl::plan_from_pddl(&text, &names_json) {
+        Ok(mapped) => {
+            let name = format!("{} (through {})", session.db().file(file).name(), names.display());
+            Some(session.add_text(&name, mapped))
+        }
+        Err((line, why)) => {
+            let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
+            let end = start + text[start..].find('\n').unwrap_or(text.len() - start);
+            session.push(
+                Diagnostic::error(
+                    codes::BAD_PLAN_FILE,
+                    format!("cannot read this step through `{}`: {why}", names.display()),
+                )
+                .primary(Span::new(file, start as u32, end as u32), "this step")
+                .with_note("`--names` reads a plan for the PDDL problem `kbc export pddl` wrote with that file"),
+            );
+            None
+        }
+    }
 }

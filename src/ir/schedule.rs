@@ -82,7 +82,7 @@ pub fn pddl_action(interner: &Interner, name: &Term) -> String {
 
 /// `text` without the spaces between its tokens (`f(a, b)` becomes `f(a,b)`, one word of a
 /// PDDL action), keeping those inside quoted atoms and strings (`'room & hall'`).
-fn without_layout(text: &str) -> String {
+pub(crate) fn without_layout(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut quote: Option<char> = None;
     let mut escaped = false;

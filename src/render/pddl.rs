@@ -1215,3 +1215,93 @@ fn for_each_tuple(lists: &[Vec<ConstId>], f: &mut impl FnMut(&[ConstId])) {
         }
     }
 }
+
+/// A timed plan another planner found for an exported problem, written back in the KB's
+/// terms through `names.json`: in each line `TIME: (ACTION ARGS...) [DURATION]`, the action
+/// and the objects are replaced by the KB action they stand for (`(grip_1 a1 b2 n1 n1)`
+/// becomes `(grip a1 b2)`, the format `kbc plan --schedule` prints and `kbc validate` reads).
+/// Blank and comment lines are kept. A line whose action or object `names` does not know is
+/// an error: its index (from 0) and why.
+pub fn plan_from_pddl(text: &str, names: &serde_json::Value) -> Result<String, (usize, String)> {
+    let mut out = String::with_capacity(text.len());
+    for (index, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with(';') || trimmed.starts_with('%') {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        let fail = |why: String| (index, why);
+        let (time, rest) = trimmed.split_once(':').ok_or_else(|| fail("expected `TIME: (ACTION ...)`".into()))?;
+        let open = rest.find('(').ok_or_else(|| fail("expected `(` before the action".into()))?;
+        let close = rest.find(')').ok_or_else(|| fail("expected `)` after the action".into()))?;
+        let words: Vec<String> = rest[open + 1..close].split_whitespace().map(str::to_lowercase).collect();
+        let (action, objects) = words.split_first().ok_or_else(|| fail("the action has no name".into()))?;
+        let entry = &names["actions"][action.as_str()];
+        let parameters: Vec<&str> = entry["parameters"]
+            .as_array()
+            .ok_or_else(|| fail(format!("names.json has no action `{action}`")))?
+            .iter()
+            .filter_map(serde_json::Value::as_str)
+            .collect();
+        if parameters.len() != objects.len() {
+            return Err(fail(format!(
+                "`{action}` takes {} arguments in names.json, the line gives {}",
+                parameters.len(),
+                objects.len()
+            )));
+        }
+        let mut values: Vec<(&str, &str)> = Vec::with_capacity(objects.len());
+        for (parameter, object) in parameters.iter().zip(objects) {
+            let value = names["objects"][object.as_str()]
+                .as_str()
+                .ok_or_else(|| fail(format!("names.json has no object `{object}`")))?;
+            values.push((parameter, value));
+        }
+        // Longer parameter names first, so `?x2` is not read as `?x` followed by `2`.
+        values.sort_by_key(|(p, _)| std::cmp::Reverse(p.len()));
+        let (template, durative) = match (entry["start"].as_str(), entry["instant"].as_str()) {
+            (Some(start), _) => (start, true),
+            (None, Some(instant)) => (instant, false),
+            _ => return Err(fail(format!("names.json gives no KB action for `{action}`"))),
+        };
+        let mut term = template.to_string();
+        for (parameter, value) in &values {
+            term = term.replace(parameter, value);
+        }
+        let (functor, arguments) = match term.split_once('(') {
+            Some((f, a)) => (f.to_string(), a.strip_suffix(')').unwrap_or(a).to_string()),
+            None => (term.clone(), String::new()),
+        };
+        let base = if durative { functor.strip_suffix("_start").unwrap_or(&functor).to_string() } else { functor };
+        let arguments: Vec<String> =
+            top_level_arguments(&arguments).iter().map(|a| crate::ir::schedule::without_layout(a)).collect();
+        let call = if arguments.is_empty() { format!("({base})") } else { format!("({base} {})", arguments.join(" ")) };
+        let after = &rest[close + 1..];
+        out.push_str(&format!("{}: {call}{after}\n", time.trim()));
+    }
+    Ok(out)
+}
+
+/// `a, f(b, c), 'x, y'` split at its top-level commas.
+fn top_level_arguments(text: &str) -> Vec<String> {
+    let mut arguments = Vec::new();
+    let (mut depth, mut quoted, mut current) = (0i32, false, String::new());
+    for c in text.chars() {
+        match c {
+            '\'' => quoted = !quoted,
+            '(' | '[' if !quoted => depth += 1,
+            ')' | ']' if !quoted => depth -= 1,
+            ',' if !quoted && depth == 0 => {
+                arguments.push(std::mem::take(&mut current).trim().to_string());
+                continue;
+            }
+            _ => {}
+        }
+        current.push(c);
+    }
+    if !current.trim().is_empty() {
+        arguments.push(current.trim().to_string());
+    }
+    arguments
+}
