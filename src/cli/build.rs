@@ -56,8 +56,10 @@ pub(super) struct RunArgs {
     #[command(flatten)]
     planning: PlanningArgs,
     /// The host that runs the actions.
-    #[arg(long, value_enum, default_value_t = HostKind::Sim)]
-    host: HostKind,
+    /// (Default: the simulated arms when they can run every action of the plan, else the trace
+    /// host, with a note; a bytecode file runs on the simulated arms.)
+    #[arg(long, value_enum)]
+    host: Option<HostKind>,
     /// Give up when the virtual clock passes this many KB time units.
     #[arg(long, value_name = "UNITS", default_value_t = 100_000.0)]
     max_time: f64,
@@ -200,10 +202,12 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         (args.record.is_some(), "--record"),
         (args.gantt_svg.is_some(), "--gantt-svg"),
     ];
-    if let Some((_, option)) = sim_only.iter().find(|(given, _)| *given && args.host == HostKind::Trace) {
+    if let Some((_, option)) = sim_only.iter().find(|(given, _)| *given && args.host == Some(HostKind::Trace)) {
         eprintln!("error: `{option}` needs the simulated arms (`--host sim`)");
         return ExitCode::from(2);
     }
+    // The host that runs it: as asked, else the simulated arms (unless they cannot run the plan).
+    let mut host = args.host.unwrap_or(HostKind::Sim);
     // The program: loaded, or planned and built here (keeping the session to check the
     // timeline and the goal, and to replan).
     let files = &args.planning.files;
@@ -218,7 +222,27 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
             Ok(planned) => planned,
             Err(status) => return status,
         };
-        let Some(built) = session.build(&planned, args.host.profile()) else {
+        let sim_options = sim_only.iter().any(|(given, _)| *given);
+        let mut built = session.build(&planned, args.host.unwrap_or(HostKind::Sim).profile());
+        let not_provided = session.diagnostics().iter().any(|d| d.code == Some(codes::NOT_PROVIDED));
+        if built.is_none() && not_provided && args.host.is_none() && !sim_options {
+            // No host asked for, and the arms cannot run the plan: the trace host can.
+            let refused = session.take_diagnostics();
+            let why = refused.iter().find(|d| d.is_error()).map(|d| d.message.clone()).unwrap_or_default();
+            for diagnostic in refused.into_iter().filter(|d| !d.is_error()) {
+                session.push(diagnostic);
+            }
+            session.push(
+                Diagnostic::note("the simulated arms cannot run this plan, so it runs on the trace host")
+                    .with_note(why)
+                    .with_help(
+                        "`--host sim` insists on the arms (E0503 says what they lack); `--host trace` chooses this",
+                    ),
+            );
+            host = HostKind::Trace;
+            built = session.build(&planned, None);
+        }
+        let Some(built) = built else {
             return super::fail(session.db(), session.diagnostics(), format, color);
         };
         report(session.db(), session.diagnostics(), format, color);
@@ -229,7 +253,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     let scale = program.module().time_scale as f64;
     let makespan = planned.as_ref().map(|p| p.timed.schedule.makespan);
     let mut session = session;
-    let sim = match args.host {
+    let sim = match host {
         HostKind::Trace => None,
         HostKind::Sim => {
             let config = SimConfig { units_per_second: program.module().time_scale as i64, ..SimConfig::default() };

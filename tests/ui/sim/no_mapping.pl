@@ -1,4 +1,4 @@
-% ui: kbc run $CASE
+% ui: kbc run $CASE --host sim
 % The simulated arms cannot wave: `wave` has no mapping onto their primitives.
 action(wave_start(A), [idle(A)], [], [], [], [del(idle(A)), add(waving(A))]).
 action(wave_end(A), [waving(A)], [], [], [], [del(waving(A)), add(idle(A)), add(waved(A))]).

@@ -1,0 +1,6 @@
+% ui: kbc run $CASE
+% No host asked for, and the simulated arms cannot wave: the plan runs on the trace host, with a note.
+action(wave_start(A), [idle(A)], [], [], [], [del(idle(A)), add(waving(A))]).
+action(wave_end(A), [waving(A)], [], [], [], [del(waving(A)), add(idle(A)), add(waved(A))]).
+hello :- go([idle(a1), available(a1), ontable(b1, 1, 1)], [waved(a1)]).
+duration(wave(_), 1, 2).
