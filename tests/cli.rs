@@ -653,3 +653,23 @@ fn validate_reads_timed_plans_as_other_planners_print_them() {
     let out = kbc(&["validate", kb, path.to_str().expect("UTF-8")]);
     assert_eq!(out.status.code(), Some(0), "{}\n{other}", stderr(&out));
 }
+
+#[test]
+fn completion_scripts_know_the_subcommands_and_their_options() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = kbc(&["completions", shell]);
+        assert_eq!(out.status.code(), Some(0), "{shell}: {}", stderr(&out));
+        let script = stdout(&out);
+        for word in ["plan", "validate", "dump-after", "message-format"] {
+            assert!(script.contains(word), "{shell}: no `{word}` in the script");
+        }
+    }
+    // bash reads its script without a syntax error.
+    let bash = stdout(&kbc(&["completions", "bash"]));
+    if let Ok(mut child) = Command::new("bash").arg("-n").stdin(std::process::Stdio::piped()).spawn() {
+        use std::io::Write;
+        child.stdin.take().expect("piped").write_all(bash.as_bytes()).expect("written");
+        assert!(child.wait().expect("bash runs").success(), "bash rejects the script");
+    }
+    assert_eq!(kbc(&["completions", "tcsh"]).status.code(), Some(2), "an unknown shell is a usage error");
+}

@@ -96,6 +96,12 @@ enum Command {
     /// Nothing the model writes is run: it is read as data. `kbc draft check` checks an answer
     /// file; `kbc draft eval` scores models in the paper's Table layout.
     Draft(draft::DraftArgs),
+    /// Print a completion script for a shell, e.g. `kbc completions bash >> ~/.bashrc`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -197,6 +203,11 @@ fn run() -> ExitCode {
         Command::Disasm(args) => build::disasm(args, color),
         Command::Draft(args) => draft::run(args, color),
         Command::Explain { code } => explain(&code),
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            clap_complete::generate(shell, &mut Cli::command(), "kbc", &mut std::io::stdout());
+            ExitCode::SUCCESS
+        }
         Command::Lsp { stdio: _ } => crate::lsp::run_stdio(),
     }
 }
