@@ -673,3 +673,22 @@ fn completion_scripts_know_the_subcommands_and_their_options() {
     }
     assert_eq!(kbc(&["completions", "tcsh"]).status.code(), Some(2), "an unknown shell is a usage error");
 }
+
+#[test]
+fn graphviz_labels_escape_backslashes_and_quotes() {
+    // The atom's text is `c:\tmp "x"`: in a DOT string its `\` and `"` are escaped, so dot
+    // shows the name as it is.
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("dot-escape");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let kb = dir.join("kb.pl");
+    std::fs::write(
+        &kb,
+        "action(go_start(R), [at(home)], [], [], [dir(R)], [del(at(home)), add(going(R))]).\n\
+         action(go_end(R), [going(R)], [], [], [], [del(going(R)), add(at(R))]).\n\
+         duration(go(_), 1, 1).\ndir('c:\\\\tmp \"x\"').\nt :- go([at(home)], [at('c:\\\\tmp \"x\"')]).\n",
+    )
+    .expect("written");
+    let out = kbc(&["build", kb.to_str().expect("UTF-8"), "--emit", "bt-dot"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains(r#"[label="go_start(c:\\tmp \"x\")", shape=ellipse]"#), "{}", stdout(&out));
+}

@@ -167,7 +167,7 @@ pub fn dot(module: &Module) -> String {
                 (text, if matches!(other, Instr::Wait { .. }) { "diamond" } else { "ellipse" })
             }
         };
-        let _ = writeln!(out, "  n{i} [label=\"{}\", shape={shape}];", label.replace('"', "\\\""));
+        let _ = writeln!(out, "  n{i} [label={}, shape={shape}];", super::dot::quote(&label));
     }
     for (i, node) in module.nodes.iter().enumerate() {
         for child in Module::children(node) {

@@ -11,8 +11,9 @@ use crate::ir::hir::{self, VarTable};
 use crate::ir::pop::{Pop, Reason};
 use crate::ir::stn::{EdgeKind, Stn, format_time};
 
-/// A DOT string literal.
-fn quote(text: &str) -> String {
+/// A DOT string literal: `text` in double quotes, with `"` and `\` escaped and line breaks
+/// as `\n`. The one escaper of every Graphviz picture kbc writes.
+pub(crate) fn quote(text: &str) -> String {
     let mut out = String::with_capacity(text.len() + 2);
     out.push('"');
     for c in text.chars() {
