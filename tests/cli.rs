@@ -692,3 +692,29 @@ fn graphviz_labels_escape_backslashes_and_quotes() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(stdout(&out).contains(r#"[label="go_start(c:\\tmp \"x\")", shape=ellipse]"#), "{}", stdout(&out));
 }
+
+#[test]
+fn a_recorded_run_has_the_documented_shape() {
+    // docs/dsl.md, "Recording a run": the fields a viewer relies on.
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("record");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("run.json");
+    let out = kbc(&["run", "examples/02_llm_stacking/test_case.pl", "-q", "--record", path.to_str().expect("UTF-8")]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("written")).expect("JSON");
+    assert_eq!((record["format"].as_str(), record["version"].as_u64()), (Some("kbc-sim-record"), Some(1)));
+    let blocks = record["blocks"].as_array().expect("block names").len();
+    let arms = record["arms"].as_array().expect("arm names").len();
+    assert_eq!((blocks, arms), (4, 3));
+    let frames = record["frames"].as_array().expect("frames");
+    assert!(frames.len() > 10);
+    for frame in frames {
+        assert!(frame["t"].as_f64().is_some());
+        let poses = frame["blocks"].as_array().expect("block poses");
+        assert!(poses.len() == blocks && poses.iter().all(|p| p.as_array().is_some_and(|p| p.len() == 7)));
+        let grippers = frame["grippers"].as_array().expect("gripper positions");
+        assert!(grippers.len() == arms && grippers.iter().all(|g| g.as_array().is_some_and(|g| g.len() == 3)));
+    }
+    assert!(record["faults"].as_array().is_some_and(Vec::is_empty));
+}
