@@ -18,6 +18,24 @@ const LANE: i64 = 30;
 const LEFT: i64 = 80;
 const WIDTH: i64 = 900;
 
+/// The width of a character of the charts' 12 px sans-serif text, in pixels, rounded up (the
+/// widest lower-case letters; so a label that fits here fits when drawn).
+const CHAR_WIDTH: i64 = 7;
+
+/// `label` as it fits in `width` pixels: whole, or cut with `…`; `None` when not even three
+/// characters fit (the bar's tooltip still has the whole text).
+fn fitted(label: &str, width: i64) -> Option<String> {
+    let fits = (width / CHAR_WIDTH).max(0) as usize;
+    let length = label.chars().count();
+    if length <= fits {
+        Some(label.to_string())
+    } else if fits >= 3 {
+        Some(label.chars().take(fits - 1).chain(std::iter::once('…')).collect())
+    } else {
+        None
+    }
+}
+
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
@@ -209,9 +227,8 @@ pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)]
             format_time(bar.start),
             format_time(bar.end)
         );
-        if x1 - x0 > 40 {
-            let _ =
-                writeln!(out, "<text x=\"{}\" y=\"{}\" fill=\"white\">{}</text>", x0 + 3, y + 15, escape(&bar.label));
+        if let Some(label) = fitted(&bar.label, x1 - x0 - 6) {
+            let _ = writeln!(out, "<text x=\"{}\" y=\"{}\" fill=\"white\">{}</text>", x0 + 3, y + 15, escape(&label));
         }
     }
     for (t, text) in marks {
@@ -224,4 +241,16 @@ pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)]
     }
     out.push_str("</svg>\n");
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fitted;
+
+    #[test]
+    fn labels_are_cut_to_the_bar() {
+        assert_eq!(fitted("grip", 100).as_deref(), Some("grip"));
+        assert_eq!(fitted("move_block", 49).as_deref(), Some("move_b…"), "7 characters fit in 49 px");
+        assert_eq!(fitted("move_block", 20), None, "2 characters fit: none drawn");
+    }
 }
