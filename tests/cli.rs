@@ -690,7 +690,7 @@ fn graphviz_labels_escape_backslashes_and_quotes() {
     .expect("written");
     let out = kbc(&["build", kb.to_str().expect("UTF-8"), "--emit", "bt-dot"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stdout(&out).contains(r#"[label="go_start(c:\\tmp \"x\")", shape=ellipse]"#), "{}", stdout(&out));
+    assert!(stdout(&out).contains(r#"[label="e0: go_start(c:\\tmp \"x\")", shape=ellipse]"#), "{}", stdout(&out));
 }
 
 #[test]
@@ -717,4 +717,26 @@ fn a_recorded_run_has_the_documented_shape() {
         assert!(grippers.len() == arms && grippers.iter().all(|g| g.as_array().is_some_and(|g| g.len() == 3)));
     }
     assert!(record["faults"].as_array().is_some_and(Vec::is_empty));
+}
+
+#[test]
+fn every_event_a_wait_names_is_shown_on_an_action() {
+    let out = kbc(&["build", "examples/02_llm_stacking/test_case.pl", "--emit", "bt-dot", "-q"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let dot = stdout(&out);
+    assert!(dot.contains("rankdir=LR") && dot.contains("label=\"boxes: sequences"), "a legend: {dot}");
+    let labels: Vec<&str> = dot.lines().filter_map(|l| l.split("label=\"").nth(1)).collect();
+    let mut waited = 0;
+    for wait in labels.iter().filter(|l| l.starts_with("wait ")) {
+        for event in wait.trim_start_matches("wait ").split(['"', ';']).filter_map(|e| e.split('+').next()) {
+            if event.starts_with('e') {
+                waited += 1;
+                assert!(
+                    labels.iter().any(|l| l.starts_with(&format!("{event}: "))),
+                    "`{event}` is on no action: {dot}"
+                );
+            }
+        }
+    }
+    assert!(waited > 0, "the example's tree waits for something: {dot}");
 }

@@ -151,7 +151,11 @@ pub fn xml(module: &Module) -> String {
 /// Graphviz DOT: composites as boxes, waits as diamonds, actions as ellipses.
 pub fn dot(module: &Module) -> String {
     let starts = start_nodes(module);
-    let mut out = String::from("digraph behaviour_tree {\n  rankdir=TB;\n  node [fontname=\"Helvetica\"];\n");
+    // Left to right: a plan's tree is much wider than deep, and reads as a timeline this way.
+    let mut out = String::from("digraph behaviour_tree {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n");
+    let legend = "boxes: sequences (\u{2192}, in order) and parallels (\u{21c9}, together); ellipses: actions, \
+                  eN the event each records; diamonds: waits until the events named have happened";
+    let _ = writeln!(out, "  labelloc=t;\n  fontname=\"Helvetica\";\n  label={};", super::dot::quote(legend));
     for (i, node) in module.nodes.iter().enumerate() {
         let (label, shape) = match node {
             Instr::Sequence { .. } => ("sequence \u{2192}".to_string(), "box"),
@@ -160,9 +164,11 @@ pub fn dot(module: &Module) -> String {
                 let (id, attrs) = leaf(module, &starts, other).unwrap_or_default();
                 let args: Vec<&str> =
                     attrs.iter().filter(|(k, _)| k.starts_with("arg")).map(|(_, v)| v.as_str()).collect();
-                let text = match other {
-                    Instr::Wait { .. } => format!("wait {}", attrs.first().map_or("", |(_, v)| v.as_str())),
-                    _ => format!("{id}({})", args.join(", ")),
+                let event = attrs.iter().find(|(k, _)| k == "event").map(|(_, v)| v.as_str());
+                let text = match (other, event) {
+                    (Instr::Wait { .. }, _) => format!("wait {}", attrs.first().map_or("", |(_, v)| v.as_str())),
+                    (_, Some(event)) => format!("{event}: {id}({})", args.join(", ")),
+                    (_, None) => format!("{id}({})", args.join(", ")),
                 };
                 (text, if matches!(other, Instr::Wait { .. }) { "diamond" } else { "ellipse" })
             }
