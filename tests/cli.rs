@@ -740,3 +740,23 @@ fn every_event_a_wait_names_is_shown_on_an_action() {
     }
     assert!(waited > 0, "the example's tree waits for something: {dot}");
 }
+
+#[test]
+fn the_stn_picture_ties_the_first_steps_to_the_origin() {
+    // In the paper's example the two arms' first steps (a1, a4) follow nothing but the origin.
+    let out = kbc(&[
+        "plan",
+        "examples/06_partial_order/kb.pl",
+        "--plan",
+        "examples/06_partial_order/plan.txt",
+        "--emit",
+        "stn-dot",
+        "-q",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let dot = stdout(&out);
+    let to_origin: Vec<&str> =
+        dot.lines().filter(|l| l.contains("-> origin")).map(|l| l.split_whitespace().next().unwrap_or("")).collect();
+    assert_eq!(to_origin, ["a1", "a4"], "{dot}");
+    assert!(dot.contains("label=\"the distance graph"), "a legend: {dot}");
+}

@@ -9,7 +9,7 @@ use petgraph::visit::EdgeRef;
 use crate::intern::Interner;
 use crate::ir::hir::{self, VarTable};
 use crate::ir::pop::{Pop, Reason};
-use crate::ir::stn::{EdgeKind, Stn, format_time};
+use crate::ir::stn::{EdgeKind, Stn, TimePoint, format_time};
 
 /// A DOT string literal: `text` in double quotes, with `"` and `\` escaped and line breaks
 /// as `\n`. The one escaper of every Graphviz picture kbc writes.
@@ -63,18 +63,34 @@ pub fn pop(interner: &Interner, pop: &Pop) -> String {
 /// units. The edges from every point to the origin are left out.
 pub fn stn(interner: &Interner, pop: &Pop, stn: &Stn) -> String {
     let mut out = String::from("digraph stn {\n  node [shape=box, fontname=\"monospace\"];\n");
+    let legend = "the distance graph: an edge x -> y labelled w is t(y) - t(x) <= w (in time units); \
+                  black: orderings, blue: durations, grey dashed: no step starts before the origin \
+                  (drawn for the steps nothing else orders)";
+    let _ = writeln!(out, "  labelloc=t;\n  fontname=\"Helvetica\";\n  label={};", quote(legend));
     let _ = writeln!(out, "  origin [label=\"origin (t = 0)\", shape=ellipse];");
+    // The steps some ordering puts after another: every other step hangs on the origin alone.
+    let ordered: std::collections::BTreeSet<usize> = stn
+        .graph
+        .edge_references()
+        .filter_map(|e| match e.weight().kind {
+            EdgeKind::Precedence { after, .. } => Some(after),
+            _ => None,
+        })
+        .collect();
     for i in 0..pop.steps.len() {
         let _ = writeln!(out, "  a{} [label={}];", i + 1, quote(&step_label(interner, pop, i)));
     }
     for edge in stn.graph.edge_references() {
         let weight = edge.weight();
+        let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
         let style = match weight.kind {
-            EdgeKind::AfterOrigin => continue,
+            EdgeKind::AfterOrigin => match from {
+                TimePoint::Step(i) if !ordered.contains(&i) => ", style=dashed, color=gray",
+                _ => continue,
+            },
             EdgeKind::Precedence { .. } => "",
             EdgeKind::MinDuration { .. } | EdgeKind::MaxDuration { .. } => ", color=blue",
         };
-        let (from, to) = (stn.graph[edge.source()], stn.graph[edge.target()]);
         let _ =
             writeln!(out, "  {} -> {} [label={}{style}];", from.name(), to.name(), quote(&format_time(weight.weight)));
     }
