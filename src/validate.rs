@@ -110,28 +110,7 @@ fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
         None => return None,
     };
     // Split at top-level spaces: arguments may be compound terms written without spaces.
-    let mut words: Vec<String> = Vec::new();
-    let mut depth = 0i32;
-    let mut quoted = false;
-    let mut word = String::new();
-    for c in inner.chars() {
-        match c {
-            '\'' => quoted = !quoted,
-            '(' | '[' if !quoted => depth += 1,
-            ')' | ']' if !quoted => depth -= 1,
-            _ => {}
-        }
-        if c.is_whitespace() && depth == 0 && !quoted {
-            if !word.is_empty() {
-                words.push(std::mem::take(&mut word));
-            }
-        } else {
-            word.push(c);
-        }
-    }
-    if !word.is_empty() {
-        words.push(word);
-    }
+    let mut words = crate::syntax::text::split_top_level(inner, char::is_whitespace);
     // PDDL names are case-insensitive, and planners print them in either case (LPG in upper
     // case); the KB's names are lower case. A quoted atom keeps its case.
     for word in &mut words {

@@ -72,43 +72,14 @@ pub fn pddl_action(interner: &Interner, name: &Term) -> String {
     let no_vars = VarTable::default();
     match name {
         Term::Compound(f, args) => {
-            let args: Vec<String> =
-                args.iter().map(|a| without_layout(&hir::term_to_string(interner, a, &no_vars))).collect();
+            let args: Vec<String> = args
+                .iter()
+                .map(|a| crate::syntax::text::without_layout(&hir::term_to_string(interner, a, &no_vars)))
+                .collect();
             format!("({} {})", interner.resolve(*f), args.join(" "))
         }
         other => format!("({})", hir::term_to_string(interner, other, &no_vars)),
     }
-}
-
-/// `text` without the spaces between its tokens (`f(a, b)` becomes `f(a,b)`, one word of a
-/// PDDL action), keeping those inside quoted atoms and strings (`'room & hall'`).
-pub(crate) fn without_layout(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut quote: Option<char> = None;
-    let mut escaped = false;
-    for c in text.chars() {
-        match quote {
-            Some(q) => {
-                if escaped {
-                    escaped = false;
-                } else if c == '\\' {
-                    escaped = true;
-                } else if c == q {
-                    quote = None; // a doubled quote closes and reopens: the same text
-                }
-                out.push(c);
-            }
-            None => {
-                if c == '\'' || c == '"' {
-                    quote = Some(c);
-                }
-                if c != ' ' {
-                    out.push(c);
-                }
-            }
-        }
-    }
-    out
 }
 
 /// The schedule in the PDDL 2.1 plan format: `0.000: (grip a1 b2) [1.000]`, one action a line.

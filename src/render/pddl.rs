@@ -1274,34 +1274,12 @@ pub fn plan_from_pddl(text: &str, names: &serde_json::Value) -> Result<String, (
             None => (term.clone(), String::new()),
         };
         let base = if durative { functor.strip_suffix("_start").unwrap_or(&functor).to_string() } else { functor };
+        use crate::syntax::text::{split_top_level, without_layout};
         let arguments: Vec<String> =
-            top_level_arguments(&arguments).iter().map(|a| crate::ir::schedule::without_layout(a)).collect();
+            split_top_level(&arguments, |c| c == ',').iter().map(|a| without_layout(a)).collect();
         let call = if arguments.is_empty() { format!("({base})") } else { format!("({base} {})", arguments.join(" ")) };
         let after = &rest[close + 1..];
         out.push_str(&format!("{}: {call}{after}\n", time.trim()));
     }
     Ok(out)
-}
-
-/// `a, f(b, c), 'x, y'` split at its top-level commas.
-fn top_level_arguments(text: &str) -> Vec<String> {
-    let mut arguments = Vec::new();
-    let (mut depth, mut quoted, mut current) = (0i32, false, String::new());
-    for c in text.chars() {
-        match c {
-            '\'' => quoted = !quoted,
-            '(' | '[' if !quoted => depth += 1,
-            ')' | ']' if !quoted => depth -= 1,
-            ',' if !quoted && depth == 0 => {
-                arguments.push(std::mem::take(&mut current).trim().to_string());
-                continue;
-            }
-            _ => {}
-        }
-        current.push(c);
-    }
-    if !current.trim().is_empty() {
-        arguments.push(current.trim().to_string());
-    }
-    arguments
 }
