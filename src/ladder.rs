@@ -292,7 +292,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
     let started = Instant::now();
     let mut db = SourceDb::new();
     let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
-    let mut session = Session::open(db, vec![root], &mut crate::passes::load::NoIncludes);
+    let mut session = Session::open(db, &[root], &mut crate::passes::load::NoIncludes);
     if session.has_errors() {
         let why = "the generated problem does not check".to_string();
         return Row {

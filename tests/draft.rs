@@ -356,7 +356,7 @@ fn the_state_checks_accept_every_ladder_problem() {
         let mut db = kbc::source::SourceDb::new();
         let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
         let (db, frontend, diagnostics) =
-            kbc::session::Session::open(db, vec![root], &mut kbc::passes::load::NoIncludes).into_parts();
+            kbc::session::Session::open(db, &[root], &mut kbc::passes::load::NoIncludes).into_parts();
         assert!(!diagnostics.has_errors(), "{}", rung.name());
         let vocabulary = Vocabulary::of(&frontend.kb, &frontend.interner).expect("the std vocabulary");
         let mut diagnostics = kbc::diag::Diagnostics::new();

@@ -95,7 +95,7 @@ fn kbc_answers() -> (BTreeMap<i64, Answer>, Interner) {
     let program = db.add("program.pl", None, std::fs::read_to_string("tests/engine/program.pl").expect("corpus"));
     let queries = db.add("queries.pl", None, std::fs::read_to_string("tests/engine/queries.pl").expect("corpus"));
     let (_, frontend, _) =
-        kbc::session::Session::open(db, vec![program, queries], &mut MemoryLoader::default()).into_parts();
+        kbc::session::Session::open(db, &[program, queries], &mut MemoryLoader::default()).into_parts();
     let program = Program::new(&frontend.kb, &[]);
     let mut machine = Machine::new(&program, 1_000_000);
     let mut answers = BTreeMap::new();

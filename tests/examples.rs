@@ -41,7 +41,7 @@ fn every_example_checks_clean() {
             })
             .collect();
         assert!(!ids.is_empty(), "{} has no .pl file", dir.display());
-        let (db, frontend, diagnostics) = kbc::session::Session::open(db, ids.clone(), &mut FsLoader).into_parts();
+        let (db, frontend, diagnostics) = kbc::session::Session::open(db, &ids, &mut FsLoader).into_parts();
         let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
         assert!(
             problems.is_empty(),

@@ -229,7 +229,7 @@ fn check_diagnostic(db: &SourceDb, diagnostic: &Diagnostic) -> Result<(), TestCa
 fn run_frontend(text: &str) -> Result<(), TestCaseError> {
     let mut db = SourceDb::new();
     let id = db.add("input.pl", Some("input.pl".into()), text.to_string());
-    let session = kbc::session::Session::open(db, vec![id], &mut MemoryLoader::default());
+    let session = kbc::session::Session::open(db, &[id], &mut MemoryLoader::default());
     for diagnostic in session.diagnostics().iter() {
         check_diagnostic(session.db(), diagnostic)?;
     }

@@ -723,7 +723,7 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
     let reference = reference_plan(&kb, 20_000);
     let mut db = SourceDb::new();
     let root = db.add(format!("seed{seed}.pl"), None, text.clone());
-    let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
+    let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
     let context = |what: String| format!("seed {seed}: {what}\n{text}");
     if diagnostics.has_errors() {
         counts.refused += 1;
@@ -847,7 +847,7 @@ fn seeds_that_once_disagreed_agree() {
 fn plan_of(text: &str, search: SearchKind) -> Result<(Vec<String>, String), String> {
     let mut db = SourceDb::new();
     let root = db.add("case.pl", None, text.to_string());
-    let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
+    let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
     if diagnostics.has_errors() {
         return Err(format!("refused: {:?}", common::messages(&diagnostics)));
     }
@@ -998,7 +998,7 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         let text = kb_text(&kb);
         let mut db = SourceDb::new();
         let root = db.add(format!("seed{seed}.pl"), None, text.clone());
-        let (_, frontend, diagnostics) = kbc::session::Session::open(db, vec![root], &mut FsLoader).into_parts();
+        let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
         if diagnostics.has_errors() {
             continue;
         }

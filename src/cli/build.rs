@@ -8,7 +8,7 @@ use clap::ValueEnum;
 use kbvm::Program;
 use kbvm::bytecode::MAGIC;
 
-use super::plan::{Planned, PlanningArgs, plan_and_schedule};
+use super::plan::{PlanningArgs, plan_and_schedule};
 use super::{MessageFormat, report, write_output};
 use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::execute;
@@ -135,7 +135,7 @@ pub(super) fn build(args: BuildArgs, color: bool) -> ExitCode {
         return ExitCode::from(2);
     }
     let dump = args.dump_after;
-    let Planned { mut session, planned, .. } = match plan_and_schedule(&args.planning, color, dump) {
+    let (mut session, planned) = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,
     };
@@ -211,14 +211,14 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     // The program: loaded, or planned and built here (keeping the session to check the
     // timeline and the goal, and to replan).
     let files = &args.planning.files;
-    let (program, session, problem, planned) = if files.len() == 1 && is_bytecode(&files[0]) {
+    let (program, session, planned) = if files.len() == 1 && is_bytecode(&files[0]) {
         let mut diagnostics = Diagnostics::new();
         match load(&files[0], &mut diagnostics) {
-            Some(program) => (program, None, 0, None),
+            Some(program) => (program, None, None),
             None => return super::fail(&SourceDb::new(), &diagnostics, format, color),
         }
     } else {
-        let Planned { mut session, problem, planned } = match plan_and_schedule(&args.planning, color, None) {
+        let (mut session, planned) = match plan_and_schedule(&args.planning, color, None) {
             Ok(planned) => planned,
             Err(status) => return status,
         };
@@ -247,8 +247,9 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         };
         report(session.db(), session.diagnostics(), format, color);
         let _ = session.take_diagnostics();
-        (built.program(), Some(session), problem, Some(planned))
+        (built.program(), Some(session), Some(planned))
     };
+    let problem = planned.as_ref().map_or(0, |p| p.problem);
     let mut diagnostics = Diagnostics::new();
     let scale = program.module().time_scale as f64;
     let makespan = planned.as_ref().map(|p| p.timed.schedule.makespan);
@@ -282,7 +283,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
     match (sim, session) {
         (Some(sim), Some(session)) => {
             let planned = planned.expect("planned with the session");
-            run_with_recovery(&args, color, session, problem, program, &planned, sim)
+            run_with_recovery(&args, color, session, program, &planned, sim)
         }
         (sim, session) => {
             if args.gantt_svg.is_some() {
@@ -456,17 +457,16 @@ fn run_once(
 
 /// Runs a planned program on the simulated arms, replanning after faults as asked, and
 /// checks the goal in the world read back.
-#[allow(clippy::too_many_arguments)]
 fn run_with_recovery(
     args: &RunArgs,
     color: bool,
     mut session: Session,
-    problem: usize,
     program: Program,
     first_plan: &session::Planned,
     sim: kbvm::sim::SimHost,
 ) -> ExitCode {
     let format = args.planning.message_format;
+    let problem = first_plan.problem;
     let plan_settings = args.planning.settings();
     let settings = recover::Settings {
         replan: !args.no_replan,

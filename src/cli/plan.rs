@@ -146,13 +146,6 @@ impl Progress for TerminalProgress {
     }
 }
 
-/// A plan found (or read), checked and scheduled, in the session that made it.
-pub(super) struct Planned {
-    pub(super) session: Session,
-    pub(super) problem: usize,
-    pub(super) planned: Rc<session::Planned>,
-}
-
 impl PlanningArgs {
     /// The session's settings for these arguments.
     pub(super) fn settings(&self) -> PlanSettings {
@@ -176,7 +169,11 @@ impl PlanningArgs {
 /// Opens a session on the files, finds (or reads and checks) a plan and schedules it; prints
 /// the IR after `dump` when it comes before the plan (the task, or a front-end pass). On
 /// failure the diagnostics are already printed and the exit status is returned.
-pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump: Option<Pass>) -> Result<Planned, ExitCode> {
+pub(super) fn plan_and_schedule(
+    args: &PlanningArgs,
+    color: bool,
+    dump: Option<Pass>,
+) -> Result<(Session, Rc<session::Planned>), ExitCode> {
     let (mut session, problem) = super::open_for_problem(&args.files, args.problem.as_deref());
     let fail = |session: &Session| super::fail(session.db(), session.diagnostics(), args.message_format, color);
     if let Some(pass) = dump.filter(|p| p.is_frontend()) {
@@ -201,14 +198,14 @@ pub(super) fn plan_and_schedule(args: &PlanningArgs, color: bool, dump: Option<P
         eprint!("\r{:60}\r", "");
     }
     match planned {
-        Ok(planned) => Ok(Planned { session, problem, planned }),
+        Ok(planned) => Ok((session, planned)),
         Err(_) => Err(fail(&session)),
     }
 }
 
 pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
     let dump = args.dump_after;
-    let Planned { mut session, problem, planned } = match plan_and_schedule(&args.planning, color, dump) {
+    let (mut session, planned) = match plan_and_schedule(&args.planning, color, dump) {
         Ok(planned) => planned,
         Err(status) => return status,
     };
@@ -235,7 +232,7 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
             }
         };
     }
-    let problem_name = interner.resolve(kb.problems[problem].name).to_string();
+    let problem_name = interner.resolve(kb.problems[planned.problem].name).to_string();
     let figures = Figures::of(timed, planned.stats.as_ref(), planned.index, planned.plans.len());
     let schedule_text =
         args.schedule.then(|| schedule_text(interner, kb, timed, &problem_name, &planned.origin, &figures));

@@ -114,7 +114,7 @@ impl<'a> Checker<'a> {
     pub fn kb_alone(&mut self) -> Session {
         let mut db = SourceDb::new();
         let roots = self.add_kb(&mut db);
-        Session::open(db, roots, self.loader)
+        Session::open(db, &roots, self.loader)
     }
 
     fn add_kb(&self, db: &mut SourceDb) -> Vec<FileId> {
@@ -149,7 +149,7 @@ impl<'a> Checker<'a> {
         let mut roots = self.add_kb_for_draft(&mut db);
         let draft = db.add(self.want.file_name(), None, extracted.code.clone());
         roots.push(draft);
-        let mut session = Session::open(db, roots, self.loader);
+        let mut session = Session::open(db, &roots, self.loader);
         for diagnostic in session.diagnostics().iter() {
             let in_draft = diagnostic.labels.iter().any(|l| l.span.file == draft);
             if diagnostic.code.is_some() && (in_draft || diagnostic.labels.is_empty() && diagnostic.is_error()) {
@@ -165,16 +165,15 @@ impl<'a> Checker<'a> {
                 diagnostics.push(diagnostic);
             }
         }
-        let mut checked =
-            Checked { db: SourceDb::new(), code: Some(extracted.code), diagnostics, states: None, plan_steps: None };
+        let (mut states, mut plan_steps) = (None, None);
         match &self.want {
             Want::TestCase { name } => {
                 let (kb, interner) = (session.kb(), session.interner());
-                let problem = the_problem(kb, interner, draft, name, &mut checked.diagnostics);
-                only_test_cases(session.hir(), kb, draft, &mut checked.diagnostics);
+                let problem = the_problem(kb, interner, draft, name, &mut diagnostics);
+                only_test_cases(session.hir(), kb, draft, &mut diagnostics);
                 if let Some(index) = problem {
-                    checked.states = Some(states_of(interner, &kb.problems[index]));
-                    if !checked.diagnostics.has_errors() {
+                    states = Some(states_of(interner, &kb.problems[index]));
+                    if !diagnostics.has_errors() {
                         let program = session.program(index);
                         let (kb, interner) = (session.kb(), session.interner());
                         if let Some(vocabulary) = Vocabulary::of(kb, interner) {
@@ -183,19 +182,19 @@ impl<'a> Checker<'a> {
                                 &kb.problems[index],
                                 &program,
                                 interner,
-                                &mut checked.diagnostics,
+                                &mut diagnostics,
                             );
                         }
                     }
-                    if !checked.diagnostics.has_errors() {
-                        checked.plan_steps = self.plan(&mut session, index, &mut checked.diagnostics);
+                    if !diagnostics.has_errors() {
+                        plan_steps = self.plan(&mut session, index, &mut diagnostics);
                     }
                 }
             }
             Want::Actions => {
                 let count = session.kb().actions.iter().filter(|a| a.span.file == draft).count();
-                if count == 0 && !checked.diagnostics.has_errors() {
-                    checked.diagnostics.push(
+                if count == 0 && !diagnostics.has_errors() {
+                    diagnostics.push(
                         Diagnostic::error(codes::NOT_ASKED_FOR, "the answer defines no action schema")
                             .primary(Span::point(draft, 0), "the answer's code starts here")
                             .with_help(
@@ -205,9 +204,9 @@ impl<'a> Checker<'a> {
                 }
             }
         }
-        checked.diagnostics.sort_by_position();
-        checked.db = session.into_parts().0;
-        checked
+        diagnostics.sort_by_position();
+        let (db, _, _) = session.into_parts();
+        Checked { db, code: Some(extracted.code), diagnostics, states, plan_steps }
     }
 
     /// Plans the test case (the search only); a failure becomes the planner's diagnostic.

@@ -66,7 +66,7 @@ impl Analysis {
                 db.add(name, root.path, root.text)
             })
             .collect();
-        let (db, frontend, diagnostics) = Session::open(db, root_ids.clone(), loader).into_parts();
+        let (db, frontend, diagnostics) = Session::open(db, &root_ids, loader).into_parts();
         let index = Index::build(&frontend.kb, &frontend.loaded);
         let uris = db
             .ids()

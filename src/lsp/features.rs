@@ -475,7 +475,7 @@ fn std_names() -> &'static [Candidate] {
         let mut db = SourceDb::new();
         let arms = db.add(stdlib::STD_ARMS_NAME, None, stdlib::STD_ARMS);
         let blocks = db.add(stdlib::STD_BLOCKS_NAME, None, stdlib::STD_BLOCKS);
-        let session = Session::open(db, vec![arms, blocks], &mut NoIncludes);
+        let session = Session::open(db, &[arms, blocks], &mut NoIncludes);
         let frontend = session.hir();
         let index = Index::build(&frontend.kb, &frontend.loaded);
         names(&index, &frontend.kb, &frontend.interner)

@@ -270,7 +270,6 @@ impl Built {
 /// computed so far.
 pub struct Session {
     db: SourceDb,
-    roots: Vec<FileId>,
     frontend: Frontend,
     diagnostics: Diagnostics,
     /// Per problem: its resolution program (the KB with the goal's facts).
@@ -284,8 +283,8 @@ pub struct Session {
 impl Session {
     /// Opens a session on `roots` (files already in `db`) and runs the front end; included
     /// files come from `loader`.
-    pub fn open(mut db: SourceDb, roots: Vec<FileId>, loader: &mut dyn SourceLoader) -> Session {
-        Session::open_with(&mut db, roots, loader, Diagnostics::new()).finish(db)
+    pub fn open(db: SourceDb, roots: &[FileId], loader: &mut dyn SourceLoader) -> Session {
+        Session::opened(db, roots, loader, Diagnostics::new())
     }
 
     /// Opens a session on files read from disk (named as given); included files are read from
@@ -295,35 +294,39 @@ impl Session {
         let mut db = SourceDb::new();
         let mut diagnostics = Diagnostics::new();
         let roots = fs::read_roots(paths, &mut db, &mut diagnostics);
-        Session::open_with(&mut db, roots, &mut FsLoader, diagnostics).finish(db)
+        Session::opened(db, &roots, &mut FsLoader, diagnostics)
     }
 
     /// Opens a session on one text with nothing to include (tests, generated problems).
     pub fn from_text(name: &str, text: impl Into<String>) -> Session {
         let mut db = SourceDb::new();
         let root = db.add(name, None, text.into());
-        Session::open(db, vec![root], &mut crate::passes::load::NoIncludes)
+        Session::open(db, &[root], &mut crate::passes::load::NoIncludes)
     }
 
-    fn open_with(
-        db: &mut SourceDb,
-        roots: Vec<FileId>,
+    /// The session after the front end, its diagnostics after `diagnostics` (read errors).
+    fn opened(
+        mut db: SourceDb,
+        roots: &[FileId],
         loader: &mut dyn SourceLoader,
         mut diagnostics: Diagnostics,
-    ) -> Opened {
-        let (frontend, found) = frontend::run(db, &roots, loader);
+    ) -> Session {
+        let (frontend, found) = frontend::run(&mut db, roots, loader);
         diagnostics.extend(found);
-        Opened { roots, frontend, diagnostics }
+        Session {
+            db,
+            frontend,
+            diagnostics,
+            programs: Vec::new(),
+            tasks: Vec::new(),
+            searches: Vec::new(),
+            plans: Vec::new(),
+        }
     }
 
     /// The sources read.
     pub fn db(&self) -> &SourceDb {
         &self.db
-    }
-
-    /// The root files, in the order given.
-    pub fn roots(&self) -> &[FileId] {
-        &self.roots
     }
 
     /// The front end's result: the parsed files, the names, the resolved KB (HIR).
@@ -756,28 +759,6 @@ impl Session {
     /// The session's parts, for a caller that outlives it.
     pub fn into_parts(self) -> (SourceDb, Frontend, Diagnostics) {
         (self.db, self.frontend, self.diagnostics)
-    }
-}
-
-/// A session whose front end ran, before its sources move in.
-struct Opened {
-    roots: Vec<FileId>,
-    frontend: Frontend,
-    diagnostics: Diagnostics,
-}
-
-impl Opened {
-    fn finish(self, db: SourceDb) -> Session {
-        Session {
-            db,
-            roots: self.roots,
-            frontend: self.frontend,
-            diagnostics: self.diagnostics,
-            programs: Vec::new(),
-            tasks: Vec::new(),
-            searches: Vec::new(),
-            plans: Vec::new(),
-        }
     }
 }
 
