@@ -15,6 +15,20 @@ fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
+/// `text` written as `file` in the test's own directory `dir` (see [`scratch`]).
+fn scratch_file(dir: &str, file: &str, text: &str) -> std::path::PathBuf {
+    let path = scratch(dir).join(file);
+    std::fs::write(&path, text).expect("a writable file");
+    path
+}
+
+/// A directory of the test's own under the target directory.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    dir
+}
+
 #[test]
 fn clean_files_exit_zero_and_print_only_the_std_note() {
     let out = kbc(&["check", "examples/01_paper_tests/tests.pl"]);
@@ -528,8 +542,7 @@ fn run_recovers_from_a_fault_and_records_it() {
 
 #[test]
 fn a_bytecode_file_the_host_cannot_run_is_refused_before_it_starts() {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("unlinked");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("unlinked");
     let program = dir.join("paper_schema.kbb");
     let program = program.to_str().expect("UTF-8 path");
     // Built for no host in particular: its actions have no arm-level refinement.
@@ -549,24 +562,20 @@ fn a_bytecode_file_the_host_cannot_run_is_refused_before_it_starts() {
 fn a_timed_plan_with_quoted_atoms_validates() {
     // The PDDL-style printer drops the spaces between an argument's tokens; those inside a
     // quoted atom are part of the name and must stay, or `kbc validate` rejects the plan.
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("quoted");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let kb = dir.join("quoted.pl");
-    std::fs::write(
-        &kb,
+    let kb = scratch_file(
+        "quoted",
+        "quoted.pl",
         "room('room & hall'). room(lab).\n\
          action(go_start(R, P), [at(lab)], [], [], [room(R), P = f(R, 'a b')], [del(at(lab)), add(going(R))]).\n\
          action(go_end(R, P), [going(R)], [], [], [], [del(going(R)), add(at(R))]).\n\
          t :- go([at(lab)], [at('room & hall')]).\n",
-    )
-    .expect("written");
+    );
     let kb = kb.to_str().expect("UTF-8 path");
     let out = kbc(&["plan", kb, "--schedule"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = stdout(&out);
     assert!(text.contains("(go 'room & hall' f('room & hall','a b'))"), "{text}");
-    let plan = dir.join("timed.txt");
-    std::fs::write(&plan, &text).expect("written");
+    let plan = scratch_file("quoted", "timed.txt", &text);
     let check = kbc(&["validate", kb, plan.to_str().expect("UTF-8 path")]);
     assert_eq!(check.status.code(), Some(0), "{}\n{text}", stderr(&check));
 }
@@ -574,8 +583,7 @@ fn a_timed_plan_with_quoted_atoms_validates() {
 #[test]
 fn a_picture_is_the_whole_output_and_a_dash_means_stdout() {
     let kb = "examples/02_llm_stacking/test_case.pl";
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("emit");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("emit");
     // To a file: nothing else on stdout (the plan is not printed as well).
     let svg = dir.join("gantt.svg");
     let out = kbc(&["plan", kb, "--emit", "gantt-svg", "-o", svg.to_str().expect("UTF-8")]);
@@ -625,7 +633,7 @@ fn quiet_drops_notes_and_status_lines_but_not_warnings() {
     // Warnings stay.
     let warned = kbc(&["--quiet", "check", "tests/ui/warnings/singleton_variables.pl"]);
     assert!(stderr(&warned).contains("warning[W0001]"), "{}", stderr(&warned));
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("quiet-pddl");
+    let dir = scratch("quiet-pddl");
     let export =
         kbc(&["export", "pddl", "examples/02_llm_stacking/test_case.pl", "-q", "-o", dir.to_str().expect("UTF-8")]);
     assert_eq!(export.status.code(), Some(0), "{}", stderr(&export));
@@ -646,10 +654,7 @@ fn validate_reads_timed_plans_as_other_planners_print_them() {
         let duration = duration.trim_end_matches(']');
         other.push_str(&format!("{time}0: {} [{duration}0] ; step\n", action.to_uppercase()));
     }
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("other-planner");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join("plan.txt");
-    std::fs::write(&path, &other).expect("written");
+    let path = scratch_file("other-planner", "plan.txt", &other);
     let out = kbc(&["validate", kb, path.to_str().expect("UTF-8")]);
     assert_eq!(out.status.code(), Some(0), "{}\n{other}", stderr(&out));
 }
@@ -678,16 +683,13 @@ fn completion_scripts_know_the_subcommands_and_their_options() {
 fn graphviz_labels_escape_backslashes_and_quotes() {
     // The atom's text is `c:\tmp "x"`: in a DOT string its `\` and `"` are escaped, so dot
     // shows the name as it is.
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("dot-escape");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let kb = dir.join("kb.pl");
-    std::fs::write(
-        &kb,
+    let kb = scratch_file(
+        "dot-escape",
+        "kb.pl",
         "action(go_start(R), [at(home)], [], [], [dir(R)], [del(at(home)), add(going(R))]).\n\
          action(go_end(R), [going(R)], [], [], [], [del(going(R)), add(at(R))]).\n\
          duration(go(_), 1, 1).\ndir('c:\\\\tmp \"x\"').\nt :- go([at(home)], [at('c:\\\\tmp \"x\"')]).\n",
-    )
-    .expect("written");
+    );
     let out = kbc(&["build", kb.to_str().expect("UTF-8"), "--emit", "bt-dot"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(stdout(&out).contains(r#"[label="e0: go_start(c:\\tmp \"x\")", shape=ellipse]"#), "{}", stdout(&out));
@@ -696,8 +698,7 @@ fn graphviz_labels_escape_backslashes_and_quotes() {
 #[test]
 fn a_recorded_run_has_the_documented_shape() {
     // docs/dsl.md, "Recording a run": the fields a viewer relies on.
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("record");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch("record");
     let path = dir.join("run.json");
     let out = kbc(&["run", "examples/02_llm_stacking/test_case.pl", "-q", "--record", path.to_str().expect("UTF-8")]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));

@@ -13,6 +13,8 @@
 //!   builds: the whole file parses to the same tree and the same diagnostics with and without
 //!   it.
 
+mod common;
+
 use kbc::diag::{Diagnostic, render};
 use kbc::intern::Interner;
 use kbc::passes::load::MemoryLoader;
@@ -126,19 +128,7 @@ fn corpus() -> Vec<String> {
         texts.push(std::fs::read_to_string(path).expect("example exists"));
     }
     // And every UI case: each was written to hit one corner of the language.
-    let mut stack = vec![std::path::PathBuf::from("tests/ui")];
-    let mut cases = Vec::new();
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).expect("tests/ui is readable") {
-            let path = entry.expect("an entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "pl") {
-                cases.push(path);
-            }
-        }
-    }
-    cases.sort();
+    let cases = common::files_under("tests/ui", "pl");
     texts.extend(cases.iter().map(|p| std::fs::read_to_string(p).expect("a readable UI case")));
     texts
 }

@@ -2,24 +2,13 @@
 //! `tidy`): each test reads the files and fails with the places that break one. Codes, pages
 //! and UI tests are kept in step by `tests/diagnostic_registry.rs`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 /// Every `.rs` file under `dir`, sorted.
 fn rust_files(dir: &str) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    let mut stack = vec![PathBuf::from(dir)];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let path = entry.expect("a directory entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                files.push(path);
-            }
-        }
-    }
-    files.sort();
-    files
+    common::files_under(dir, "rs")
 }
 
 /// The lines of `path` outside `#[cfg(test)]` modules and comments, numbered from 1.

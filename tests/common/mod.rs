@@ -78,3 +78,21 @@ pub fn expect_files(kind: &str, outputs: Vec<(PathBuf, PathBuf, Result<String, S
         failures.join("\n")
     );
 }
+
+/// Every file under `dir` (at any depth) whose name ends in `.extension`, sorted.
+pub fn files_under(dir: &str, extension: &str) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![PathBuf::from(dir)];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == extension) {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
