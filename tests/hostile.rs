@@ -7,7 +7,8 @@
 //! content and then an edit that removes it.
 //!
 //! The binary is run with a virtual-memory limit (`ulimit -v`, 6 GiB: the worker thread
-//! reserves 2 GiB of stack address space, of which these inputs touch a few hundred MB) and a
+//! reserves 2 GiB of stack address space; the largest of these inputs, the body of a million
+//! goals, peaks at about 400 MB in a release build) and a
 //! wall-clock limit that only catches hangs (a debug build is slow; speed is measured by
 //! hand in release builds, see the closing notes of issue 24).
 

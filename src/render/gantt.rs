@@ -18,8 +18,8 @@ const LANE: i64 = 30;
 const LEFT: i64 = 80;
 const WIDTH: i64 = 900;
 
-/// The width of a character of the charts' 12 px sans-serif text, in pixels, rounded up (the
-/// widest lower-case letters; so a label that fits here fits when drawn).
+/// An estimate of the width of a character of the charts' 12 px sans-serif text, in pixels:
+/// about an average letter's, so a label of wide letters (`m`, `w`) can still overrun a little.
 const CHAR_WIDTH: i64 = 7;
 
 /// `label` as it fits in `width` pixels: whole, or cut with `…`; `None` when not even three
