@@ -186,6 +186,10 @@ const STACK_BYTES: usize = 2 << 30;
 fn run() -> ExitCode {
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    use crate::syntax::parser::{MAX_CLAUSE_TOKENS_VAR, set_max_clause_tokens};
+    if let Some(limit) = std::env::var(MAX_CLAUSE_TOKENS_VAR).ok().and_then(|v| v.trim().parse().ok()) {
+        set_max_clause_tokens(limit);
+    }
     let color = match cli.color {
         ColorWhen::Always => true,
         ColorWhen::Never => false,

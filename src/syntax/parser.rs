@@ -241,18 +241,23 @@ impl ClauseStream<'_> {
     }
 }
 
-/// The environment variable that raises (or lowers) [`max_clause_tokens`].
+/// The environment variable with which the `kbc` command raises (or lowers) the limit of
+/// [`max_clause_tokens`] (read by the command, which calls [`set_max_clause_tokens`]).
 pub const MAX_CLAUSE_TOKENS_VAR: &str = "KBC_MAX_CLAUSE_TOKENS";
 
-/// The most tokens a clause may have: 2,500,000 (a body of a million goals has two million),
-/// or the value of [`MAX_CLAUSE_TOKENS_VAR`]. A term nests at most as deep as it has tokens,
-/// and `kbc` gives its passes a 2 GiB stack, which held a unary chain 4,000,000 deep (the
-/// shape with the largest frames measured; release build).
+static MAX_CLAUSE_TOKENS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(2_500_000);
+
+/// The most tokens a clause may have: 2,500,000 (a body of a million goals has two million)
+/// unless [`set_max_clause_tokens`] said otherwise. A term nests at most as deep as it has
+/// tokens, and `kbc` gives its passes a 2 GiB stack, which held a unary chain 4,000,000 deep
+/// (the shape with the largest frames measured; release build).
 pub fn max_clause_tokens() -> usize {
-    static LIMIT: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *LIMIT.get_or_init(|| {
-        std::env::var(MAX_CLAUSE_TOKENS_VAR).ok().and_then(|v| v.trim().parse().ok()).unwrap_or(2_500_000)
-    })
+    MAX_CLAUSE_TOKENS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Sets [`max_clause_tokens`] for the process (an embedder with a smaller stack lowers it).
+pub fn set_max_clause_tokens(limit: usize) {
+    MAX_CLAUSE_TOKENS.store(limit, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// How deeply [`canonical_clause`] nests before leaving a clause to the LR parser, whose
