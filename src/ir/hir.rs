@@ -65,6 +65,15 @@ impl Term {
         }
     }
 
+    /// The term with every variable number raised by `offset`.
+    pub fn shift_vars(&self, offset: u32) -> Term {
+        match self {
+            Term::Var(v) => Term::Var(VarId(v.0 + offset)),
+            Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| a.shift_vars(offset)).collect()),
+            other => other.clone(),
+        }
+    }
+
     /// Calls `f` on each variable occurrence, left to right.
     pub fn for_each_var(&self, f: &mut impl FnMut(VarId)) {
         match self {
@@ -317,10 +326,29 @@ pub struct Problem {
     pub max_depth: Option<u32>,
     /// How it was written.
     pub form: ProblemForm,
-    /// Variables of the goal (init facts are ground).
+    /// Variables of the goal (and of `open_init`).
     pub vars: VarTable,
     /// The whole clause (or the `init_state` fact).
     pub span: Span,
+    /// `High` for a problem as written; `Low` for the arm-level problem the refinement pass
+    /// derives from one ([`Kb::arm_problem`]), whose plans are sequences of `ll_action`s.
+    pub level: Level,
+    /// Initial facts with variables on arm-level predicates (`ll_arm_at(a1, 4, 4, _)`): the
+    /// arm level matches them by unification; the high level never reads them.
+    pub open_init: Vec<Literal>,
+}
+
+/// A file's arm-level state: `ll_init([...])` and `ll_goal([...])`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArmState {
+    /// The file that declares it.
+    pub file: FileId,
+    /// `ll_init/1`'s facts (they may have variables).
+    pub init: Vec<Literal>,
+    /// `ll_goal/1`'s literals.
+    pub goal: Vec<Literal>,
+    /// The variables of both lists.
+    pub vars: VarTable,
 }
 
 /// `:- dynamic P/N` or `:- discontiguous P/N`.
@@ -364,6 +392,8 @@ pub struct Kb {
     /// Predicates (name, arity) of the arm-level states (`ll_init/1`, `ll_goal/1`): read, not
     /// planned, but state facts for the name checks of arm-level actions.
     pub arm_level_state_preds: Vec<(Symbol, usize)>,
+    /// The arm-level states (`ll_init/1`, `ll_goal/1`), one per file that declares them.
+    pub arm_states: Vec<ArmState>,
     /// The static program: facts and rules, in clause order.
     pub clauses: Vec<Clause>,
     /// Action schemas of both levels, in clause order.
@@ -394,6 +424,50 @@ impl Kb {
     /// High-level action schemas.
     pub fn high_level_actions(&self) -> impl Iterator<Item = &Action> {
         self.actions.iter().filter(|a| a.level == Level::High)
+    }
+
+    /// The predicates of the arm level: those an `ll_action` checks, forbids, adds or
+    /// deletes, and those of the arm-level states.
+    pub fn arm_level_preds(&self) -> Vec<(Symbol, usize)> {
+        let mut preds: Vec<(Symbol, usize)> = self.arm_level_state_preds.clone();
+        for action in self.actions.iter().filter(|a| a.level == Level::Low) {
+            let literals = action.valid.iter().chain(&action.invalid).chain(&action.invalid_at_end);
+            for literal in literals.chain(action.effects.iter().map(|e| &e.literal)) {
+                if let Some(key) = literal.term.callable()
+                    && !preds.contains(&key)
+                {
+                    preds.push(key);
+                }
+            }
+        }
+        preds
+    }
+
+    /// The arm-level problem of high-level problem `problem`: its initial facts and goal
+    /// literals on arm-level predicates ([`Kb::arm_level_preds`]), its `open_init`, and the
+    /// arm-level state of its file (or the KB's only one). Its variables follow the
+    /// problem's own.
+    pub fn arm_problem(&self, problem: usize) -> Problem {
+        let base = &self.problems[problem];
+        let preds = self.arm_level_preds();
+        let on_arm = |l: &&Literal| l.term.callable().is_some_and(|key| preds.contains(&key));
+        let mut init: Vec<Literal> = base.init.iter().filter(on_arm).cloned().collect();
+        init.extend(base.open_init.iter().cloned());
+        let mut goal: Vec<Literal> = base.goal.iter().filter(on_arm).cloned().collect();
+        let mut vars = base.vars.clone();
+        let state = match self.arm_states.iter().find(|s| s.file == base.span.file) {
+            Some(state) => Some(state),
+            None if self.arm_states.len() == 1 => self.arm_states.first(),
+            None => None,
+        };
+        if let Some(state) = state {
+            let offset = vars.len() as u32;
+            let shift = |l: &Literal| Literal { term: l.term.shift_vars(offset), ..l.clone() };
+            init.extend(state.init.iter().map(shift));
+            goal.extend(state.goal.iter().map(shift));
+            vars.vars.extend(state.vars.vars.iter().cloned());
+        }
+        Problem { init, goal, vars, level: Level::Low, open_init: Vec::new(), ..base.clone() }
     }
 }
 

@@ -27,11 +27,14 @@ use crate::syntax::printer::term_to_string;
 
 /// Lowers the loaded clauses (in program order) into a KB.
 pub fn lower(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut Diagnostics) -> Kb {
-    let mut lowerer = Lowerer { interner, diags, db, kb: Kb::default(), state_files: Vec::new() };
+    let mut lowerer =
+        Lowerer { interner, diags, db, kb: Kb::default(), state_files: Vec::new(), arm_state_files: Vec::new() };
     for clause in loaded.clauses() {
         lowerer.clause(clause);
     }
     lowerer.finish_init_goal_states();
+    lowerer.finish_arm_states();
+    lowerer.check_open_init();
     lowerer.unpair_mismatched_arities();
     lowerer.kb
 }
@@ -95,12 +98,21 @@ struct StateFile {
     scope: Scope,
 }
 
+/// A file's `ll_init/1` and `ll_goal/1`, which share one variable scope.
+struct ArmStateFile {
+    file: FileId,
+    init: Option<(Vec<Literal>, Span)>,
+    goal: Option<(Vec<Literal>, Span)>,
+    scope: Scope,
+}
+
 struct Lowerer<'a> {
     interner: &'a mut Interner,
     diags: &'a mut Diagnostics,
     db: &'a SourceDb,
     kb: Kb,
     state_files: Vec<StateFile>,
+    arm_state_files: Vec<ArmStateFile>,
 }
 
 impl Lowerer<'_> {
@@ -449,12 +461,7 @@ impl Lowerer<'_> {
                         }
                     }
                 }
-                let shown = self.interner.resolve(name).to_string();
-                self.diags.push(
-                    Diagnostic::note(format!("`{shown}/1` (the arm-level state) is not used yet"))
-                        .primary(term.name_span(), "read, and left out of planning")
-                        .with_note("kbc plans the high-level problem (`hl_init`/`hl_goal`, `init_state`/`goal_state`); refining it into arm-level actions is not implemented"),
-                );
+                self.arm_state_fact(name, term, span);
             }
             _ => {
                 let mut scope = Scope::default();
@@ -746,7 +753,7 @@ impl Lowerer<'_> {
         let quiet: Vec<Span> = init.iter().flatten().filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
         self.singletons(&scope, &quiet);
         let (Some(init), Some(goal)) = (init, goal) else { return };
-        let init = self.ground_init(init, &scope);
+        let (init, open_init) = Lowerer::ground_init(init);
         self.add_problem(Problem {
             name,
             name_span: head.name_span(),
@@ -756,6 +763,8 @@ impl Lowerer<'_> {
             form: ProblemForm::Go(args.len() as u8),
             vars: scope.table,
             span,
+            level: Level::High,
+            open_init,
         });
     }
 
@@ -772,20 +781,37 @@ impl Lowerer<'_> {
         ok.then_some(literals)
     }
 
-    /// Keeps the ground init facts and reports the others.
-    fn ground_init(&mut self, init: Vec<Literal>, scope: &Scope) -> Vec<Literal> {
-        let mut ground = Vec::with_capacity(init.len());
-        for literal in init {
-            if literal.term.is_ground() {
-                ground.push(literal);
-                continue;
+    /// Splits init facts into the ground ones and those with variables; the latter are kept
+    /// for the arm level when their predicate is an arm-level one ([`Lowerer::check_open_init`]).
+    fn ground_init(init: Vec<Literal>) -> (Vec<Literal>, Vec<Literal>) {
+        init.into_iter().partition(|l| l.term.is_ground())
+    }
+
+    /// Reports init facts with variables on predicates the arm level does not read (E0209),
+    /// once every `ll_action` is known, and drops them.
+    fn check_open_init(&mut self) {
+        let arm = self.kb.arm_level_preds();
+        for p in 0..self.kb.problems.len() {
+            let open = std::mem::take(&mut self.kb.problems[p].open_init);
+            let (kept, refused): (Vec<Literal>, Vec<Literal>) =
+                open.into_iter().partition(|l| l.term.callable().is_some_and(|key| arm.contains(&key)));
+            self.kb.problems[p].open_init = kept;
+            let vars = self.kb.problems[p].vars.clone();
+            for literal in refused {
+                self.non_ground_init(&literal, &vars);
             }
+        }
+    }
+
+    /// E0209 on `literal`.
+    fn non_ground_init(&mut self, literal: &Literal, vars: &VarTable) {
+        {
             let mut diagnostic = Diagnostic::error(codes::NON_GROUND_INIT, "an initial state fact must be ground")
                 .primary(literal.span, "this fact has a variable");
             let mut seen = Vec::new();
             literal.term.for_each_var(&mut |v| seen.push(v));
             for v in seen {
-                let info = scope.table.get(v);
+                let info = vars.get(v);
                 if let Some(&at) =
                     info.occurrences.iter().find(|s| literal.span.start <= s.start && s.end <= literal.span.end)
                 {
@@ -796,10 +822,10 @@ impl Lowerer<'_> {
             self.diags.push(
                 diagnostic
                     .with_note("the initial state lists what is true, so every argument must be known")
-                    .with_help("replace the variable with a value; atoms start with a lower-case letter"),
+                    .with_help("replace the variable with a value; atoms start with a lower-case letter")
+                    .with_note("only facts of the arm level (predicates of `ll_action/6`s) may have variables"),
             );
         }
-        ground
     }
 
     fn add_problem(&mut self, problem: Problem) {
@@ -901,7 +927,7 @@ impl Lowerer<'_> {
                 (Some((init, init_span)), Some((goal, goal_span))) => {
                     let quiet: Vec<Span> = init.iter().filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
                     self.singletons(&state.scope, &quiet);
-                    let init = self.ground_init(init, &state.scope);
+                    let (init, open_init) = Lowerer::ground_init(init);
                     let name = self.interner.intern(&stem);
                     self.add_problem(Problem {
                         name,
@@ -912,12 +938,61 @@ impl Lowerer<'_> {
                         form: ProblemForm::InitGoalState,
                         vars: state.scope.table,
                         span: init_span.to(goal_span),
+                        level: Level::High,
+                        open_init,
                     });
                 }
                 (Some((_, span)), None) => self.incomplete_problem(span, "goal_state"),
                 (None, Some((_, span))) => self.incomplete_problem(span, "init_state"),
                 (None, None) => {}
             }
+        }
+    }
+
+    /// `ll_init([...])` or `ll_goal([...])`: one per file, sharing a scope.
+    fn arm_state_fact(&mut self, name: Symbol, term: &ast::Term, span: Span) {
+        let file = span.file;
+        let index = match self.arm_state_files.iter().position(|s| s.file == file) {
+            Some(i) => i,
+            None => {
+                self.arm_state_files.push(ArmStateFile { file, init: None, goal: None, scope: Scope::default() });
+                self.arm_state_files.len() - 1
+            }
+        };
+        let what = if name == sym::LL_INIT { "the arm-level initial state" } else { "the arm-level goal" };
+        let mut scope = std::mem::take(&mut self.arm_state_files[index].scope);
+        let list = self.state_list(&term.args()[0], &mut scope, what);
+        let entry = &mut self.arm_state_files[index];
+        entry.scope = scope;
+        let slot = if name == sym::LL_INIT { &mut entry.init } else { &mut entry.goal };
+        if let Some((_, first)) = slot {
+            let first = *first;
+            let text = self.interner.resolve(name).to_string();
+            self.diags.push(
+                Diagnostic::error(codes::BAD_PROBLEM, format!("`{text}` is given more than once in this file"))
+                    .primary(term.name_span(), "given again here")
+                    .secondary(first, "first given here")
+                    .with_help("give one arm-level state per file"),
+            );
+            return;
+        }
+        if let Some(list) = list {
+            *slot = Some((list, term.name_span()));
+        }
+    }
+
+    fn finish_arm_states(&mut self) {
+        for state in std::mem::take(&mut self.arm_state_files) {
+            // Variables of an arm-level initial state are meant: `_` is "any value".
+            let quiet: Vec<Span> =
+                state.init.iter().flat_map(|(l, _)| l.iter()).filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
+            self.singletons(&state.scope, &quiet);
+            self.kb.arm_states.push(hir::ArmState {
+                file: state.file,
+                init: state.init.map(|(l, _)| l).unwrap_or_default(),
+                goal: state.goal.map(|(l, _)| l).unwrap_or_default(),
+                vars: state.scope.table,
+            });
         }
     }
 

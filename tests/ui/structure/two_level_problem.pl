@@ -1,6 +1,6 @@
 % ui: kbc plan $CASE
-% The authors' two-level spelling of a problem: hl_init/hl_goal plan, ll_init/ll_goal are read
-% and left out with a note.
+% The authors' two-level spelling of a problem: hl_init/hl_goal plan; ll_init/ll_goal are the
+% arm-level state and goal that `--level arm` refines against, read without a word here.
 action(go_a, [start], [], [], [], [add(at_a)]).
 hl_init([start]).
 hl_goal([at_a]).
