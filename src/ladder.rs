@@ -335,7 +335,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
             };
             return failed(why, failed_search.stats.expanded, failed_search.stats.elapsed);
         }
-        Err(PlanError::Unschedulable | PlanError::PlanFile) => {
+        Err(PlanError::Unschedulable | PlanError::PlanFile | PlanError::Refinement) => {
             let why = format!("no schedule: {}", first_error(session.diagnostics()));
             let stats = session.search(0, &settings, &mut Silent).map(|s| s.stats).unwrap_or_default();
             return failed(why, stats.expanded, stats.elapsed);

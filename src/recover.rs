@@ -222,7 +222,7 @@ pub fn execute(
                 let verdict = Verdict::NoPlan { problem: new_problem, failed };
                 return Execution { rounds, sim, verdict };
             }
-            Err(PlanError::Unschedulable | PlanError::PlanFile) => {
+            Err(PlanError::Unschedulable | PlanError::PlanFile | PlanError::Refinement) => {
                 let verdict = Verdict::NotCompiled(session.take_diagnostics());
                 return Execution { rounds, sim, verdict };
             }

@@ -20,11 +20,13 @@ use std::collections::BTreeSet;
 use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::engine::{Cell, Machine, Next, Program};
 use crate::intern::{Interner, Symbol, sym};
+use crate::ir::hir::VarId;
 use crate::ir::hir::{self, Action, EffectKind, Kb, Level, Snap, Term};
 use crate::ir::plan::{Plan, Step};
-use crate::ir::unify::unifiable;
+use crate::ir::unify::{substitute, unifiable, unify_in};
 use crate::source::{FileId, Span};
 use crate::syntax::ast;
+use rustc_hash::FxHashMap;
 
 /// A step read from a plan file.
 #[derive(Clone, Debug, PartialEq)]
@@ -269,6 +271,52 @@ fn lower_ground(term: &ast::Term) -> Option<Term> {
 /// A substitution for one schema's variables.
 type Bindings = Vec<Option<Term>>;
 
+/// Variables of the initial state (an arm-level problem may have them: `ll_arm_at(a1, 0, 0,
+/// _)`) are numbered from here, apart from every schema's variables. As in Prolog, such a
+/// variable unifies: a pattern variable can take it and carry it into an added fact, and a
+/// Valid literal or the goal that gives it a value binds it in the state from then on
+/// ([`bind_state_vars`]).
+const STATE_VARS: u32 = 1 << 24;
+
+/// When `pattern` (a schema term under `bindings`) unifies with `fact` only by giving values
+/// to variables of the initial state in `fact`: the extended bindings and those values.
+fn bind_state_vars(pattern: &Term, fact: &Term, bindings: &Bindings) -> Option<(Bindings, FxHashMap<VarId, Term>)> {
+    let mut has_state_var = false;
+    fact.for_each_var(&mut |v| has_state_var |= v.0 >= STATE_VARS);
+    if !has_state_var {
+        return None;
+    }
+    let mut subst = FxHashMap::default();
+    if !unify_in(&resolve(pattern, bindings), fact, &mut subst) {
+        return None;
+    }
+    let mut extended = bindings.clone();
+    let mut bound = FxHashMap::default();
+    for (var, value) in &subst {
+        let value = substitute(value, &subst);
+        match (var.0 >= STATE_VARS, &value) {
+            // A state variable met an unbound schema variable: the schema variable takes it.
+            (true, Term::Var(schema)) if schema.0 < STATE_VARS => extended[schema.0 as usize] = Some(Term::Var(*var)),
+            (true, _) => {
+                bound.insert(*var, value);
+            }
+            (false, _) => extended[var.0 as usize] = Some(value),
+        }
+    }
+    // Schema variables bound to a state variable that is now bound take its value.
+    for slot in extended.iter_mut().flatten() {
+        *slot = substitute(slot, &bound);
+    }
+    Some((extended, bound))
+}
+
+/// True if `term` has a variable of the schema (not one of the initial state's).
+fn has_schema_var(term: &Term) -> bool {
+    let mut found = false;
+    term.for_each_var(&mut |v| found |= v.0 < STATE_VARS);
+    found
+}
+
 fn resolve(term: &Term, bindings: &Bindings) -> Term {
     match term {
         Term::Var(v) => match bindings.get(v.0 as usize).cloned().flatten() {
@@ -283,6 +331,8 @@ fn resolve(term: &Term, bindings: &Bindings) -> Term {
 /// Matches a schema term (with variables) against a ground term, extending `bindings`.
 fn matches(pattern: &Term, ground: &Term, bindings: &mut Bindings) -> bool {
     match pattern {
+        // A variable of the initial state inside a value: it stands for itself.
+        Term::Var(v) if v.0 >= STATE_VARS => pattern == ground,
         Term::Var(v) => match bindings[v.0 as usize].clone() {
             Some(bound) => matches(&bound, ground, bindings),
             None => {
@@ -313,6 +363,18 @@ struct State {
 }
 
 impl State {
+    /// The state with variables of the initial state replaced by their values.
+    fn instantiated(&self, interner: &Interner, bound: &FxHashMap<VarId, Term>) -> State {
+        let mut next = State { facts: BTreeSet::new(), terms: Vec::new(), running: self.running.clone(), via: None };
+        for term in &self.terms {
+            let term = substitute(term, bound);
+            if next.facts.insert(key(interner, &term)) {
+                next.terms.push(term);
+            }
+        }
+        next
+    }
+
     fn identity(&self) -> (&BTreeSet<String>, &[String]) {
         (&self.facts, &self.running)
     }
@@ -374,8 +436,9 @@ impl Replayer<'_, '_> {
         let problem = &self.kb.problems[self.problem];
         let mut state = State { facts: BTreeSet::new(), terms: Vec::new(), running: Vec::new(), via: None };
         for literal in &problem.init {
-            if state.facts.insert(key(self.interner, &literal.term)) {
-                state.terms.push(literal.term.clone());
+            let term = literal.term.shift_vars(STATE_VARS);
+            if state.facts.insert(key(self.interner, &term)) {
+                state.terms.push(term);
             }
         }
         state
@@ -386,7 +449,7 @@ impl Replayer<'_, '_> {
     fn successors(&mut self, state: &State, step: &Term, with: &[(Symbol, Term)]) -> Result<Vec<State>, Option<Miss>> {
         let mut found = Found::default();
         for (index, action) in self.kb.actions.iter().enumerate() {
-            if action.level != Level::High {
+            if action.level != self.kb.problems[self.problem].level {
                 continue;
             }
             let mut bindings: Bindings = vec![None; action.vars.len()];
@@ -470,6 +533,12 @@ impl Replayer<'_, '_> {
             if matches(&literal.term, fact, &mut attempt) {
                 matched = true;
                 self.valid(at, position + 1, &mut attempt, found);
+            } else if let Some((mut attempt, bound)) = bind_state_vars(&literal.term, fact, bindings) {
+                // The fact has a variable of the initial state that the literal gives a value:
+                // as in Prolog, the state keeps that value from here on.
+                matched = true;
+                let instantiated = state.instantiated(self.interner, &bound);
+                self.valid(&Attempt { state: &instantiated, ..*at }, position + 1, &mut attempt, found);
             }
         }
         if !matched {
@@ -576,7 +645,7 @@ impl Replayer<'_, '_> {
         let mut next = state.clone();
         for effect in &action.effects {
             let fact = resolve(&effect.literal.term, bindings);
-            if !fact.is_ground() && effect.kind == EffectKind::Del {
+            if has_schema_var(&fact) && effect.kind == EffectKind::Del {
                 // Every fact that unifies goes, as SWI-Prolog's delete/3 removes them.
                 let gone: Vec<String> =
                     next.terms.iter().filter(|t| unifiable(&fact, t)).map(|t| key(self.interner, t)).collect();
@@ -586,7 +655,7 @@ impl Replayer<'_, '_> {
                 }
                 continue;
             }
-            if !fact.is_ground() {
+            if has_schema_var(&fact) {
                 found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "an effect is not ground".into(),
@@ -632,7 +701,12 @@ impl Replayer<'_, '_> {
             let Some((first, rest)) = goal.split_first() else { return true };
             state.terms.iter().any(|fact| {
                 let mut attempt = bindings.clone();
-                matches(&first.term, fact, &mut attempt) && from(rest, state, &mut attempt)
+                if matches(&first.term, fact, &mut attempt) {
+                    return from(rest, state, &mut attempt);
+                }
+                // A variable of the initial state unifies with the goal's value.
+                bind_state_vars(&first.term, fact, bindings)
+                    .is_some_and(|(mut attempt, _)| from(rest, state, &mut attempt))
             })
         }
         from(&problem.goal, state, &mut vec![None; problem.vars.len()])
@@ -781,12 +855,10 @@ struct Event {
 
 /// The snap-action name `X_start(args)` or `X_end(args)` of a durative action `X(args)`, if
 /// the KB has that durative action.
-fn snap_name(kb: &Kb, action: &Term, snap: Snap) -> Option<Term> {
+fn snap_name(kb: &Kb, level: Level, action: &Term, snap: Snap) -> Option<Term> {
     let (name, arity) = action.callable()?;
-    let schema = kb
-        .actions
-        .iter()
-        .find(|a| a.level == Level::High && a.snap == snap && a.base == name && a.name.arity() == arity)?;
+    let schema =
+        kb.actions.iter().find(|a| a.level == level && a.snap == snap && a.base == name && a.name.arity() == arity)?;
     let functor = schema.name.name();
     Some(match action {
         Term::Compound(_, args) => Term::Compound(functor, args.clone()),
@@ -842,8 +914,9 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
                 .push(Diagnostic::error(codes::BAD_PLAN_FILE, "expected a timed step").primary(step.span, "no time"));
             return Verdict { diagnostics, applied: 0, plan };
         };
-        let start = snap_name(kb, &step.name, Snap::Start);
-        let end = snap_name(kb, &step.name, Snap::End);
+        let level = kb.problems[problem].level;
+        let start = snap_name(kb, level, &step.name, Snap::Start);
+        let end = snap_name(kb, level, &step.name, Snap::End);
         match (start, end, duration) {
             (Some(start), Some(end), Some(duration)) => {
                 match duration_bounds(&mut replayer.machine, &step.name) {

@@ -7,7 +7,11 @@
 //!   and `kbc validate` accepts the plan as `kbc plan` prints it;
 //! - `warn CODE`: checking the KB reports warning CODE;
 //! - `note`: checking reports at least one note and no error;
-//! - `refuse CODE`: checking or planning fails with error CODE.
+//! - `refuse CODE`: checking or planning fails with error CODE;
+//! - `arm NAME length N`: problem NAME's plan refines into N arm-level snap actions
+//!   (`kbc plan --level arm`), and the validator, replaying the arm-level actions, accepts
+//!   them as printed;
+//! - `refuse-arm NAME CODE`: NAME plans but refining it fails with error CODE.
 
 mod common;
 
@@ -121,6 +125,57 @@ fn check(files: &[PathBuf]) -> Vec<String> {
                         "{name}: kbc validate rejects\n{printed}{:?}",
                         verdict.map(|v| common::messages(&v.diagnostics))
                     ));
+                }
+            }
+            ["arm", name, "length", n] => {
+                let Some(problem) = session.problem(Some(name)) else {
+                    wrong.push(format!("no problem {name}"));
+                    continue;
+                };
+                let refined = session
+                    .plan(problem, &settings, &mut Silent)
+                    .and_then(|high| session.refine(high, &settings, &mut Silent));
+                let Ok(arm) = refined else {
+                    wrong.push(format!(
+                        "{name}: no arm-level plan: {:?}",
+                        common::messages(&session.take_diagnostics())
+                    ));
+                    continue;
+                };
+                if arm.plan().steps.len().to_string() != *n {
+                    wrong.push(format!("{name}: expected {n} arm-level steps, got {}", arm.plan().steps.len()));
+                }
+                let refinement = arm.refinement.as_ref().expect("an arm-level plan says where it comes from");
+                let printed = kbc::ir::plan::print_arm(
+                    session.interner(),
+                    session.kb(),
+                    refinement.high.plan(),
+                    arm.plan(),
+                    &refinement.origin,
+                );
+                let file = session.add_text("arm_plan.txt", printed.clone());
+                // As `kbc validate --level arm` does: on the arm-level problem as written, whose
+                // initial variables the replay binds itself.
+                let arm_problem = session.arm_problem(problem);
+                let verdict = session.read_plan_steps(file).map(|steps| session.validate(arm_problem, &steps));
+                if verdict.as_ref().is_none_or(|v| v.diagnostics.has_errors()) {
+                    wrong.push(format!(
+                        "{name}: the validator rejects the arm-level plan\n{printed}{:?}",
+                        verdict.map(|v| common::messages(&v.diagnostics))
+                    ));
+                }
+            }
+            ["refuse-arm", name, code] => {
+                let Some(problem) = session.problem(Some(name)) else {
+                    wrong.push(format!("no problem {name}"));
+                    continue;
+                };
+                let refined = session
+                    .plan(problem, &settings, &mut Silent)
+                    .and_then(|high| session.refine(high, &settings, &mut Silent));
+                let errors = codes(&session.take_diagnostics(), Severity::Error);
+                if refined.is_ok() || !errors.iter().any(|c| c == code) {
+                    wrong.push(format!("{name}: expected refining to fail with {code}, got {errors:?}"));
                 }
             }
             other => wrong.push(format!("unknown expectation {other:?}")),

@@ -206,8 +206,17 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         eprintln!("error: `{option}` needs the simulated arms (`--host sim`)");
         return ExitCode::from(2);
     }
-    // The host that runs it: as asked, else the simulated arms (unless they cannot run the plan).
-    let mut host = args.host.unwrap_or(HostKind::Sim);
+    let arm_level = args.planning.level == super::plan::LevelArg::Arm;
+    if arm_level && (args.host == Some(HostKind::Sim) || sim_only.iter().any(|(given, _)| *given)) {
+        eprintln!(
+            "error: `--level arm` runs on the trace host: the simulated arms run the high-level plan through \
+             their own steps (std/arms.pl)"
+        );
+        return ExitCode::from(2);
+    }
+    // The host that runs it: as asked, else the simulated arms (unless they cannot run the
+    // plan); an arm-level plan runs on the trace host.
+    let mut host = args.host.unwrap_or(if arm_level { HostKind::Trace } else { HostKind::Sim });
     // The program: loaded, or planned and built here (keeping the session to check the
     // timeline and the goal, and to replan).
     let files = &args.planning.files;
@@ -223,7 +232,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
             Err(status) => return status,
         };
         let sim_options = sim_only.iter().any(|(given, _)| *given);
-        let mut built = session.build(&planned, args.host.unwrap_or(HostKind::Sim).profile());
+        let mut built = session.build(&planned, host.profile());
         let not_provided = session.diagnostics().iter().any(|d| d.code == Some(codes::NOT_PROVIDED));
         if built.is_none() && not_provided && args.host.is_none() && !sim_options {
             // No host asked for, and the arms cannot run the plan: the trace host can.

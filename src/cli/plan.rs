@@ -67,14 +67,26 @@ pub(super) struct PlanningArgs {
     /// pass).
     #[arg(long)]
     pub(super) no_reassign: bool,
+    /// Which plan: the high-level actions, or the arm-level actions they refine into through
+    /// `mapping/2` and `ll_action/6` (with its own achievers, schedule and tree).
+    #[arg(long, value_enum, default_value_t = LevelArg::High)]
+    pub(super) level: LevelArg,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum LevelArg {
+    /// The plan of `action/6`s.
+    High,
+    /// The plan of `ll_action/6`s the high-level plan refines into.
+    Arm,
 }
 
 #[derive(clap::Args)]
 pub(super) struct PlanArgs {
     #[command(flatten)]
     planning: PlanningArgs,
-    /// Print the state after each step.
-    #[arg(long)]
+    /// Print the state after each step (of the high-level plan).
+    #[arg(long, conflicts_with = "level")]
     trace: bool,
     /// The output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
@@ -193,7 +205,12 @@ pub(super) fn plan_and_schedule(
         shown: false,
         drawn: None,
     };
-    let planned = session.plan(problem, &settings, &mut progress);
+    let mut planned = session.plan(problem, &settings, &mut progress);
+    if args.level == LevelArg::Arm
+        && let Ok(high) = planned
+    {
+        planned = session.refine(high, &settings, &mut progress);
+    }
     if progress.shown {
         eprint!("\r{:60}\r", "");
     }
@@ -242,7 +259,10 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
         OutputFormat::Text => {
             let states = args.trace.then(|| session.states(planned.plan()));
             let (kb, interner) = (session.kb(), session.interner());
-            plan_text(interner, kb, planned.plan(), states.as_deref(), &problem_name, origin, &figures)
+            match &planned.refinement {
+                Some(refinement) => arm_plan_text(interner, kb, &planned, refinement, &problem_name, &figures),
+                None => plan_text(interner, kb, planned.plan(), states.as_deref(), &problem_name, origin, &figures),
+            }
         }
         OutputFormat::Json => plan_json(kb, interner, planned.plan(), timed, &problem_name, origin, &figures),
     };
@@ -317,6 +337,27 @@ fn plan_text(
         }
         None => out.push_str(&plan::print(interner, kb, plan)),
     }
+    out.push_str(&format!("% {}\n", figures.line()));
+    out
+}
+
+/// An arm-level plan as a plan file: its steps under the high-level step each comes from.
+fn arm_plan_text(
+    interner: &crate::intern::Interner,
+    kb: &Kb,
+    planned: &session::Planned,
+    refinement: &session::Refinement,
+    problem: &str,
+    figures: &Figures,
+) -> String {
+    let high = refinement.high.plan();
+    let mut out = format!(
+        "% arm-level plan for {problem} ({}): {} arm-level snap actions for {} high-level ones\n",
+        planned.origin,
+        planned.plan().steps.len(),
+        high.steps.len()
+    );
+    out.push_str(&plan::print_arm(interner, kb, high, planned.plan(), &refinement.origin));
     out.push_str(&format!("% {}\n", figures.line()));
     out
 }

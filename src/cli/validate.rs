@@ -22,6 +22,10 @@ pub(super) struct ValidateArgs {
     /// `names.json`: its PDDL actions and objects are read back as the KB's.
     #[arg(long, value_name = "FILE")]
     names: Option<PathBuf>,
+    /// The plan's level: high-level actions, or arm-level actions (as `kbc plan --level arm`
+    /// prints them), replayed on the problem's arm-level state and goal.
+    #[arg(long, value_enum, default_value_t = super::plan::LevelArg::High, conflicts_with = "names")]
+    level: super::plan::LevelArg,
 }
 
 pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
@@ -44,6 +48,7 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
         None => plan_file,
     };
     let Some(steps) = session.read_plan_steps(plan_file) else { return fail(&session) };
+    let problem = if args.level == super::plan::LevelArg::Arm { session.arm_problem(problem) } else { problem };
     let timed = steps.first().is_some_and(|s| s.timing.is_some());
     session.validate(problem, &steps);
     let problem_name = session.interner().resolve(session.kb().problems[problem].name).to_string();

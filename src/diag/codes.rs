@@ -127,6 +127,7 @@ codes! {
     CONDITION_ERROR = "E0308": "an OnKB goal failed with an error";
     INVALID_PLAN = "E0309": "a plan step that does not apply";
     BAD_PLAN_FILE = "E0310": "a plan file that cannot be read as steps";
+    REFINEMENT_FAILED = "E0311": "a plan that does not refine into arm-level actions";
     // Temporal.
     INCONSISTENT_STN = "E0401": "durations and orderings that no schedule satisfies";
     BAD_DURATION_VALUE = "E0402": "a duration that cannot be used";

@@ -93,3 +93,60 @@ pub fn verify(kb: &Kb, plan: &Plan) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// An arm-level plan: the `ll_action` steps a high-level plan refines into (pass `refine`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArmPlan {
+    /// The arm-level steps, in order; `plan.problem` is the arm-level problem.
+    pub plan: Plan,
+    /// For each arm-level step, the index of the high-level step whose mapping it comes from.
+    pub origin: Vec<usize>,
+    /// The arm-level problem's initial facts with the values the refinement gave their
+    /// variables (a variable no step binds stays one).
+    pub init: Vec<Term>,
+}
+
+/// The arm-level plan as numbered lines, each high-level step's arm-level steps under a
+/// `%` comment naming it (which `kbc validate` skips):
+///
+/// ```text
+/// % 1  move_start(a1, b1, 1, 1, 3, 3)
+///   1  ll_reach(a1, 1, 1)
+///   2  ll_grip(a1)
+/// ```
+pub fn print_arm(interner: &Interner, kb: &Kb, high: &Plan, arm: &Plan, origin: &[usize]) -> String {
+    let mut out = String::new();
+    let width = arm.steps.len().max(high.steps.len()).to_string().len();
+    let no_vars = VarTable::default();
+    let numbered = print(interner, kb, arm);
+    let mut last = None;
+    for (line, origin) in numbered.lines().zip(origin) {
+        if last != Some(*origin) {
+            let name = hir::term_to_string(interner, &high.steps[*origin].name, &no_vars);
+            let _ = writeln!(out, "% {:>width$}  {name}", origin + 1);
+            last = Some(*origin);
+        }
+        let (number, rest) = line.trim_start().split_once("  ").unwrap_or((line, ""));
+        let _ = writeln!(out, "  {number:>width$}  {rest}");
+    }
+    out
+}
+
+/// Checks an arm-level plan: a valid plan of arm-level actions, one origin per step, each a
+/// step of the high-level plan, in order. A failure is a compiler bug.
+pub fn verify_arm(kb: &Kb, high: &Plan, arm: &ArmPlan) -> Result<(), String> {
+    verify(kb, &arm.plan)?;
+    if arm.origin.len() != arm.plan.steps.len() {
+        return Err(format!("{} origins for {} steps", arm.origin.len(), arm.plan.steps.len()));
+    }
+    if arm.origin.iter().any(|&o| o >= high.steps.len()) || arm.origin.windows(2).any(|w| w[0] > w[1]) {
+        return Err("origins out of range or out of order".to_string());
+    }
+    if let Some(step) = arm.plan.steps.iter().find(|s| kb.actions[s.action].level != hir::Level::Low) {
+        return Err(format!("step `{:?}` is not an arm-level action", step.name));
+    }
+    if arm.init.len() != kb.problems[arm.plan.problem].init.len() {
+        return Err("the instantiated initial state does not match the problem's".to_string());
+    }
+    Ok(())
+}

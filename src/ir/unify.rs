@@ -23,6 +23,20 @@ pub fn match_ground(pattern: &Term, ground: &Term) -> Option<FxHashMap<VarId, Te
     unify(pattern, ground, &mut bindings).then_some(bindings)
 }
 
+/// Unifies `a` and `b` (their variables shared: one numbering), extending `bindings`; on
+/// failure `bindings` may hold part of the attempt, so callers unify on a copy.
+pub fn unify_in(a: &Term, b: &Term, bindings: &mut FxHashMap<VarId, Term>) -> bool {
+    unify(a, b, bindings)
+}
+
+/// `t` with every bound variable replaced by its value, through chains of bindings.
+pub fn substitute(t: &Term, bindings: &FxHashMap<VarId, Term>) -> Term {
+    match resolve(t, bindings) {
+        Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| substitute(a, bindings)).collect()),
+        other => other.clone(),
+    }
+}
+
 fn max_var(t: &Term) -> Option<VarId> {
     let mut max = None;
     t.for_each_var(&mut |v| {

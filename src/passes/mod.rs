@@ -14,6 +14,7 @@ pub mod load;
 pub mod lower;
 pub mod pop;
 pub mod reassign;
+pub mod refine;
 pub mod schedule;
 pub mod stn;
 pub mod task;

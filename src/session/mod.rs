@@ -35,7 +35,7 @@ use std::path::PathBuf;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Diagnostic, Diagnostics, codes};
 use crate::engine::Program;
 use crate::intern::Interner;
 use crate::ir::bt::Bt;
@@ -209,6 +209,8 @@ pub enum PlanError {
     PlanFile,
     /// No plan found can be scheduled.
     Unschedulable,
+    /// No plan found refines into arm-level actions (`--level arm`).
+    Refinement,
 }
 
 /// A plan found (or read), checked and scheduled.
@@ -225,7 +227,22 @@ pub struct Planned {
     pub origin: String,
     /// The search's figures (none for a plan file).
     pub stats: Option<Stats>,
+    /// For an arm-level plan: the high-level plan it refines, and for each arm-level step
+    /// the high-level step it comes from.
+    pub refinement: Option<Refinement>,
 }
+
+/// Where an arm-level plan comes from.
+pub struct Refinement {
+    /// The high-level plan, scheduled.
+    pub high: Rc<Planned>,
+    /// For each arm-level step, the index of its high-level step.
+    pub origin: Vec<usize>,
+}
+
+/// How many other high-level plans `Session::refine` asks the search for when the first one
+/// does not refine.
+const REFINE_ALTERNATIVES: usize = 8;
 
 impl Planned {
     /// The plan kept.
@@ -279,6 +296,8 @@ pub struct Session {
     tasks: Vec<Option<Task>>,
     searches: Vec<(usize, PlanSettings, SearchResult)>,
     plans: Vec<(usize, PlanSettings, Rc<Planned>)>,
+    /// Per high-level problem, its arm-level problem's index ([`Session::arm_problem`]).
+    arm_problems: Vec<(usize, usize)>,
 }
 
 impl Session {
@@ -322,6 +341,7 @@ impl Session {
             tasks: Vec::new(),
             searches: Vec::new(),
             plans: Vec::new(),
+            arm_problems: Vec::new(),
         }
     }
 
@@ -530,6 +550,136 @@ impl Session {
         Ok(planned)
     }
 
+    /// The arm-level problem of high-level problem `problem` ([`Kb::arm_problem`]), added to
+    /// the KB the first time it is asked for.
+    ///
+    /// [`Kb::arm_problem`]: crate::ir::hir::Kb::arm_problem
+    pub fn arm_problem(&mut self, problem: usize) -> usize {
+        if let Some(&(_, arm)) = self.arm_problems.iter().find(|(p, _)| *p == problem) {
+            return arm;
+        }
+        let arm = self.frontend.kb.arm_problem(problem);
+        let index = self.add_problem(arm);
+        self.arm_problems.push((problem, index));
+        index
+    }
+
+    /// The `refine` pass on a high-level plan: its arm-level plan, scheduled (its own
+    /// achievers, STN with arm-level durations, and schedule), or `Err` with the reasons in
+    /// the sink. When `high`'s plan does not refine, the search is asked for other high-level
+    /// plans (up to 8, within the settings' budget) and the first that refines is kept, with a
+    /// note; a plan file gets no such second chance.
+    pub fn refine(
+        &mut self,
+        high: Rc<Planned>,
+        settings: &PlanSettings,
+        progress: &mut dyn Progress,
+    ) -> Result<Rc<Planned>, PlanError> {
+        if self.frontend.kb.mappings.is_empty() {
+            self.diagnostics.push(
+                Diagnostic::error(codes::REFINEMENT_FAILED, "the KB has no `mapping/2`: there is no arm level to refine into")
+                    .with_note("an arm-level plan is made of the `ll_action/6` steps that `mapping/2` assigns to high-level actions")
+                    .with_help("add `mapping(HighLevelSnap, [ArmLevelStep, ...])` facts, or plan without `--level arm`"),
+            );
+            return Err(PlanError::Refinement);
+        }
+        let arm_problem = self.arm_problem(high.problem);
+        let first = match self.refine_plan(high.plan(), arm_problem, settings) {
+            Ok(arm) => return self.arm_planned(high, arm),
+            Err(failed) => failed,
+        };
+        let mut tried = vec![high.plan().clone()];
+        // Other high-level plans: more from the same search, then (the heuristic search stops
+        // at one plan per goal state) the paper's depth-first search, which enumerates them.
+        let mut searches =
+            vec![PlanSettings { retries: settings.retries.max(REFINE_ALTERNATIVES), ..settings.clone() }];
+        if settings.search == SearchKind::Heuristic {
+            searches.push(PlanSettings { search: SearchKind::Paper, ..searches[0].clone() });
+        }
+        if first.budget || settings.plan_file.is_some() {
+            searches.clear();
+        }
+        for more in searches {
+            let Ok(searched) = self.search(high.problem, &more, progress) else { continue };
+            for (k, plan) in searched.plans.iter().enumerate() {
+                if tried.contains(plan) {
+                    continue;
+                }
+                tried.push(plan.clone());
+                let single = PlanSettings { retries: 0, improve: None, ..more.clone() };
+                let search = if more.search == SearchKind::Paper { "paper search" } else { "heuristic search" };
+                let origin = format!("{search}, plan {} of {}", k + 1, searched.plans.len());
+                let mut quiet = Diagnostics::new();
+                std::mem::swap(&mut quiet, &mut self.diagnostics);
+                let scheduled =
+                    self.schedule_best(high.problem, vec![plan.clone()], origin, Some(searched.stats), &single);
+                std::mem::swap(&mut quiet, &mut self.diagnostics);
+                let Ok(alternative) = scheduled else { continue };
+                if let Ok(arm) = self.refine_plan(alternative.plan(), arm_problem, settings) {
+                    self.diagnostics.extend(quiet);
+                    self.diagnostics.push(Diagnostic::note(format!(
+                        "the first high-level plan does not refine into arm-level actions; another does ({})",
+                        alternative.origin
+                    )));
+                    return self.arm_planned(Rc::new(alternative), arm);
+                }
+            }
+        }
+        let mut diagnostic = *first.diagnostic;
+        if tried.len() > 1 {
+            diagnostic = diagnostic.with_note(format!(
+                "{} high-level plans were tried; none refines (the diagnostic is for the first)",
+                tried.len()
+            ));
+        }
+        self.diagnostics.push(diagnostic);
+        Err(PlanError::Refinement)
+    }
+
+    /// Pass `refine` on one high-level plan.
+    fn refine_plan(
+        &mut self,
+        plan: &Plan,
+        arm_problem: usize,
+        settings: &PlanSettings,
+    ) -> Result<crate::ir::plan::ArmPlan, crate::passes::refine::Failed> {
+        let program = self.program(arm_problem);
+        let budget = crate::passes::refine::Budget {
+            deadline: settings.timeout.map(|t| Instant::now() + t),
+            ..Default::default()
+        };
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let arm = crate::passes::refine::refine(kb, interner, &program, plan, arm_problem, budget)?;
+        verify_after("refine", || plan::verify_arm(kb, plan, &arm));
+        Ok(arm)
+    }
+
+    /// Schedules an arm-level plan. Its initial facts with variables get the values the
+    /// refinement gave them: the plan then belongs to a copy of the arm-level problem with
+    /// those facts, which the later passes and the validator read.
+    fn arm_planned(&mut self, high: Rc<Planned>, arm: crate::ir::plan::ArmPlan) -> Result<Rc<Planned>, PlanError> {
+        let crate::ir::plan::ArmPlan { mut plan, origin, init } = arm;
+        let problem = &self.frontend.kb.problems[plan.problem];
+        if problem.init.iter().zip(&init).any(|(l, t)| l.term != *t) {
+            let mut instantiated = problem.clone();
+            for (literal, term) in instantiated.init.iter_mut().zip(init) {
+                literal.term = term;
+            }
+            plan.problem = self.add_problem(instantiated);
+        }
+        let Some(timed) = self.schedule(&plan) else { return Err(PlanError::Unschedulable) };
+        let origin_text = format!("{}, refined into arm-level actions", high.origin);
+        Ok(Rc::new(Planned {
+            problem: plan.problem,
+            plans: vec![plan],
+            index: 0,
+            timed,
+            origin: origin_text,
+            stats: high.stats,
+            refinement: Some(Refinement { high, origin }),
+        }))
+    }
+
     /// Reads a plan file and validates it as a plan for `problem`.
     fn read_plan(&mut self, problem: usize, file: FileId) -> Result<Plan, PlanError> {
         let steps = self.read_plan_steps(file).ok_or(PlanError::PlanFile)?;
@@ -649,7 +799,7 @@ impl Session {
         if timed.schedule.makespan < searched {
             origin = format!("{origin}, jobs reassigned from a makespan of {}", crate::ir::stn::format_time(searched));
         }
-        Ok(Planned { problem, plans, index, timed, origin, stats })
+        Ok(Planned { problem, plans, index, timed, origin, stats, refinement: None })
     }
 
     /// The states `plan` passes through under the search's semantics: the initial state, then

@@ -1,8 +1,9 @@
 % expect: plan pillars_architraves length 6
-% expect: note
-% An assembly of two pillars and an architrave, in the two-level spelling (hl_init/hl_goal;
-% ll_init is read and left out). The architrave may only go on once both pillars stand, and
-% InvalidAtEnd keeps `remove` from undoing a goal.
+% expect: refuse-arm pillars_architraves E0311
+% An assembly of two pillars and an architrave, in the two-level spelling (hl_init/hl_goal,
+% and an ll_init with a variable, which only the arm level reads). The architrave may only go
+% on once both pillars stand, and InvalidAtEnd keeps `remove` from undoing a goal. There is no
+% `mapping/2`, so `--level arm` has nothing to refine into.
 pillar(p1). pillar(p2).
 action(raise_start(P), [free_crew], [standing(P)], [], [pillar(P)], [del(free_crew), add(raising(P))]).
 action(raise_end(P), [raising(P)], [], [], [], [del(raising(P)), add(standing(P)), add(free_crew)]).

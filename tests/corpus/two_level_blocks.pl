@@ -1,9 +1,10 @@
 % expect: plan test1
-% expect: note
+% expect: refuse-arm test1 E0311
 % A multi-arm blocks world in the paper's format with the authors' second level: high-level
 % actions, arm-level ll_actions with their own fluents, mappings from each start, and
 % arm-level states. The move's end names the destination only in its head: it takes the value
-% its start bound. kbc plans the high level; the arm level is read (with a note).
+% its start bound. The high level plans; the arm level does not: `ll_init` knows only arm
+% `a1`, and `ll_grip` closes a gripper nothing opens again, so no high-level plan refines.
 agent(a1). agent(a2).
 block(b1). block(b2).
 pos(1, 1). pos(2, 2). pos(3, 3).
