@@ -4,7 +4,8 @@
 //!
 //! A case's first line may give arguments as `% args: ...`: `--problem NAME`, `--plan FILE`
 //! (a plan file, relative to the case's directory, scheduled instead of searched for),
-//! `--search paper`, `--no-reassign`. Without them the problem is the only one, planned as
+//! `--search paper`, `--no-reassign`, `--level arm` (the arm-level plan; the `refine` pass
+//! needs it). Without them the problem is the only one, planned as
 //! `kbc plan` plans it. A case must compile without errors. Files in subdirectories are
 //! inputs of cases, not cases.
 //!
@@ -18,8 +19,8 @@ use std::path::{Path, PathBuf};
 use kbc::planner::{SearchKind, Silent};
 use kbc::session::{Pass, PlanSettings, Session};
 
-const PASSES: [Pass; 8] =
-    [Pass::Parse, Pass::Hir, Pass::Task, Pass::Pop, Pass::Stn, Pass::Schedule, Pass::Minimal, Pass::Bt];
+const PASSES: [Pass; 9] =
+    [Pass::Parse, Pass::Hir, Pass::Task, Pass::Refine, Pass::Pop, Pass::Stn, Pass::Schedule, Pass::Minimal, Pass::Bt];
 
 /// Every case, with its pass, sorted; only those `KBC_CASE` selects.
 fn cases() -> Vec<(Pass, PathBuf)> {
@@ -75,7 +76,10 @@ fn dump(pass: Pass, path: &Path) -> Result<String, String> {
         let file = path.parent().expect("a directory").join(plan);
         settings.plan_file = Some(session.read_file(&file).ok_or_else(|| rendered(&session))?);
     }
-    let planned = session.plan(problem, &settings, &mut Silent).map_err(|_| rendered(&session))?;
+    let mut planned = session.plan(problem, &settings, &mut Silent).map_err(|_| rendered(&session))?;
+    if value("--level").as_deref() == Some("arm") {
+        planned = session.refine(planned, &settings, &mut Silent).map_err(|_| rendered(&session))?;
+    }
     session.dump_planned(pass, &planned, &mut out).map_err(|e| e.to_string())?;
     Ok(String::from_utf8(out).expect("UTF-8"))
 }

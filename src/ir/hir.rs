@@ -426,6 +426,31 @@ impl Kb {
         self.actions.iter().filter(|a| a.level == Level::High)
     }
 
+    /// The units of the renewable resources (`resources/1`) for a problem with initial facts
+    /// `init`: the values at the template's variable positions of each static fact or initial
+    /// fact the template matches (`a1` for `agent(a1)` under `resources(agent(_))`), in order
+    /// of first appearance.
+    pub fn resource_units(&self, init: &[Literal]) -> Vec<Term> {
+        let facts = self.clauses.iter().filter(|c| c.body.is_none()).map(|c| &c.head).chain(init);
+        let mut units: Vec<Term> = Vec::new();
+        for fact in facts {
+            for resource in &self.resources {
+                let template = &resource.template.term;
+                if template.callable() != fact.term.callable()
+                    || crate::ir::unify::match_ground(template, &fact.term).is_none()
+                {
+                    continue;
+                }
+                for (slot, value) in template.args().iter().zip(fact.term.args()) {
+                    if matches!(slot, Term::Var(_)) && value.is_ground() && !units.contains(value) {
+                        units.push(value.clone());
+                    }
+                }
+            }
+        }
+        units
+    }
+
     /// The predicates of the arm level: those an `ll_action` checks, forbids, adds or
     /// deletes, and those of the arm-level states.
     pub fn arm_level_preds(&self) -> Vec<(Symbol, usize)> {

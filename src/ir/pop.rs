@@ -82,6 +82,13 @@ pub enum Reason {
     },
     /// `before` is the start that `after` ends.
     StartEnd,
+    /// Arm-level steps ordered by their refinement: consecutive steps of one mapping, or the
+    /// last step of a high-level action's mapping and the first of one the high-level partial
+    /// order puts after it.
+    Refinement,
+    /// Both steps are arm-level actions of one unit of a renewable resource (one arm), which
+    /// does one thing at a time: they keep their plan order.
+    SameUnit,
     /// `before` deletes a fact protected by a link from `producer` to `consumer`'s condition
     /// `condition`, or adds a fact that condition forbids.
     Threat {
@@ -182,6 +189,8 @@ pub fn print(interner: &Interner, pop: &Pop) -> String {
             Reason::Achiever { .. } => "achiever",
             Reason::StartEnd => "start-end",
             Reason::Threat { .. } => "threat",
+            Reason::Refinement => "refinement",
+            Reason::SameUnit => "same unit",
         };
         let _ = writeln!(out, "order a{} < a{}  ({why})", ordering.before + 1, ordering.after + 1);
     }

@@ -258,16 +258,22 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         });
     }
     let mut orderings = builder.orderings;
-    // One ordering per pair, with its strongest reason: an achiever link, then a start and its
-    // end, then a threat.
+    sort_orderings(&mut orderings);
+    Pop { problem: plan.problem, steps, goal, orderings }
+}
+
+/// One ordering per pair, with its strongest reason: an achiever link, then a start and its
+/// end, then a threat, then a shared unit.
+fn sort_orderings(orderings: &mut Vec<Ordering>) {
     let rank = |reason: &Reason| match reason {
         Reason::Achiever { .. } => 0,
         Reason::StartEnd => 1,
         Reason::Threat { .. } => 2,
+        Reason::Refinement => 3,
+        Reason::SameUnit => 4,
     };
     orderings.sort_by_key(|o| (o.after, o.before, rank(&o.reason)));
     orderings.dedup_by_key(|o| (o.after, o.before));
-    Pop { problem: plan.problem, steps, goal, orderings }
 }
 
 /// Values for the goal's variables under which every goal literal is a fact of `facts`.
@@ -302,4 +308,76 @@ fn bind(pattern: &Term, ground: &Term, bindings: &mut [Option<Term>]) -> bool {
         },
         other => other == ground,
     }
+}
+
+/// Orders the steps that name the same resource unit (an atom among `units`, such as an arm
+/// `a1`, anywhere in the step's name) in plan order, one after the other. An arm-level plan
+/// needs this: a mapping's steps for one arm are not linked by its fluents alone (`lift(a1)`
+/// needs nothing), yet the arm does one at a time.
+pub fn order_units(pop: &mut Pop, units: &[Term]) {
+    if units.is_empty() {
+        return;
+    }
+    let mut last: Vec<Option<usize>> = vec![None; units.len()];
+    for (i, step) in pop.steps.iter().enumerate() {
+        for (u, unit) in units.iter().enumerate() {
+            if !mentions(&step.name, unit) {
+                continue;
+            }
+            if let Some(before) = last[u] {
+                pop.orderings.push(Ordering { before, after: i, reason: Reason::SameUnit });
+            }
+            last[u] = Some(i);
+        }
+    }
+    sort_orderings(&mut pop.orderings);
+}
+
+fn mentions(term: &Term, unit: &Term) -> bool {
+    term == unit || term.args().iter().any(|a| mentions(a, unit))
+}
+
+/// Orders an arm-level plan's steps as their refinement does (`origin` gives each step's
+/// high-level step; `high` is the high-level plan's partial order): each mapping's steps in
+/// sequence, and for each high-level ordering `b < a`, the last arm-level step of `b` (or of
+/// the nearest high-level steps before `b` that have some, when `b` has none) before the
+/// first of `a`. So an arm-level schedule never runs a step before what the high level said
+/// must come first (a block placed before another goes on it), even when no arm-level fluent
+/// links them.
+pub fn order_by_refinement(pop: &mut Pop, origin: &[usize], high: &Pop) {
+    let n = high.steps.len();
+    let mut first: Vec<Option<usize>> = vec![None; n];
+    let mut last: Vec<Option<usize>> = vec![None; n];
+    for (i, &h) in origin.iter().enumerate() {
+        if let Some(previous) = last[h] {
+            pop.orderings.push(Ordering { before: previous, after: i, reason: Reason::Refinement });
+        }
+        first[h].get_or_insert(i);
+        last[h] = Some(i);
+    }
+    let mut before: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for ordering in &high.orderings {
+        if ordering.after < n && ordering.before < n {
+            before[ordering.after].push(ordering.before);
+        }
+    }
+    for a in 0..n {
+        let Some(start) = first[a] else { continue };
+        // The nearest predecessors with arm-level steps, through those without.
+        let mut pending: Vec<usize> = before[a].clone();
+        let mut seen = vec![false; n];
+        while let Some(b) = pending.pop() {
+            if std::mem::replace(&mut seen[b], true) {
+                continue;
+            }
+            match last[b] {
+                Some(end) if end < start => {
+                    pop.orderings.push(Ordering { before: end, after: start, reason: Reason::Refinement })
+                }
+                Some(_) => {}
+                None => pending.extend(before[b].iter().copied()),
+            }
+        }
+    }
+    sort_orderings(&mut pop.orderings);
 }

@@ -225,7 +225,7 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
             Reason::Threat { condition, .. } => {
                 pop.goal.get(condition).filter(|c| c.kind == ConditionKind::Goal).map(|c| &c.literal)
             }
-            Reason::StartEnd => None,
+            Reason::StartEnd | Reason::Refinement | Reason::SameUnit => None,
         };
         if literal.is_some_and(through_resource) {
             continue;

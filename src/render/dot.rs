@@ -52,6 +52,7 @@ pub fn pop(interner: &Interner, pop: &Pop) -> String {
             Reason::Achiever { .. } => "",
             Reason::StartEnd => " [style=bold]",
             Reason::Threat { .. } => " [style=dashed]",
+            Reason::Refinement | Reason::SameUnit => " [style=dotted]",
         };
         let _ = writeln!(out, "  a{} -> a{}{style};", ordering.before + 1, ordering.after + 1);
     }

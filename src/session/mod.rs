@@ -76,6 +76,8 @@ pub enum Pass {
     Hir,
     /// The planning task the search runs on.
     Task,
+    /// The arm-level plan the high-level plan refines into (with `--level arm`).
+    Refine,
     /// The partial-order plan: achievers and orderings.
     Pop,
     /// The simple temporal network.
@@ -96,6 +98,7 @@ impl Pass {
             Pass::Parse => "parse",
             Pass::Hir => "hir",
             Pass::Task => "task",
+            Pass::Refine => "refine",
             Pass::Pop => "pop",
             Pass::Stn => "stn",
             Pass::Schedule => "schedule",
@@ -667,7 +670,14 @@ impl Session {
             }
             plan.problem = self.add_problem(instantiated);
         }
-        let Some(timed) = self.schedule(&plan) else { return Err(PlanError::Unschedulable) };
+        // The arms (units of the resources) of the high-level problem do one step at a time.
+        let units = self.frontend.kb.resource_units(&self.frontend.kb.problems[high.problem].init);
+        let program = self.program(plan.problem);
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let order = temporal::ArmOrder { origin: &origin, high: &high.timed.pop, units: &units };
+        let Some(timed) = temporal::schedule(kb, interner, &program, &plan, Some(order), &mut self.diagnostics) else {
+            return Err(PlanError::Unschedulable);
+        };
         let origin_text = format!("{}, refined into arm-level actions", high.origin);
         Ok(Rc::new(Planned {
             problem: plan.problem,
@@ -755,7 +765,7 @@ impl Session {
             let plan = &mut plans[index];
             verify_after("plan", || plan::verify(kb, plan));
             let mut attempt = Diagnostics::new();
-            match temporal::schedule(kb, interner, &program, plan, &mut attempt) {
+            match temporal::schedule(kb, interner, &program, plan, None, &mut attempt) {
                 Some(timed) => {
                     let searched = timed.schedule.makespan;
                     let timed = if reassign {
@@ -830,7 +840,7 @@ impl Session {
     /// the reason (a negative cycle, a duration that cannot be used) in the sink.
     pub fn schedule(&mut self, plan: &Plan) -> Option<Timed> {
         let program = self.program(plan.problem);
-        temporal::schedule(&self.frontend.kb, &self.frontend.interner, &program, plan, &mut self.diagnostics)
+        temporal::schedule(&self.frontend.kb, &self.frontend.interner, &program, plan, None, &mut self.diagnostics)
     }
 
     /// The `reassign` pass on a scheduled plan: the plan and schedule kept (the given ones
@@ -893,6 +903,14 @@ impl Session {
         let interner = &self.frontend.interner;
         let timed = &planned.timed;
         match pass {
+            Pass::Refine => match &planned.refinement {
+                Some(refinement) => {
+                    let high = refinement.high.plan();
+                    let text = plan::print_arm(interner, &self.frontend.kb, high, planned.plan(), &refinement.origin);
+                    out.write_all(text.as_bytes())
+                }
+                None => out.write_all(b"% no refinement: the plan is high-level (use --level arm)\n"),
+            },
             Pass::Pop => out.write_all(crate::ir::pop::print(interner, &timed.pop).as_bytes()),
             Pass::Stn => out.write_all(crate::ir::stn::print(interner, &timed.pop, &timed.stn).as_bytes()),
             Pass::Schedule => {

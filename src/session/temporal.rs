@@ -15,8 +15,20 @@ pub struct Timed {
     pub schedule: crate::ir::schedule::Schedule,
 }
 
-/// Runs the temporal passes on a valid plan: achievers and the partial order, the STN with
-/// durations, consistency and the schedule. Warnings (default durations) and errors go to
+/// What orders an arm-level plan beyond its own achievers.
+#[derive(Clone, Copy)]
+pub(crate) struct ArmOrder<'a> {
+    /// The high-level step of each arm-level step.
+    pub origin: &'a [usize],
+    /// The high-level plan's partial order.
+    pub high: &'a crate::ir::pop::Pop,
+    /// The units of the resources (the arms), each doing one step at a time.
+    pub units: &'a [hir::Term],
+}
+
+/// Runs the temporal passes on a valid plan: achievers and the partial order (for an
+/// arm-level plan, also the refinement's order and one step at a time per arm: `arm`), the STN
+/// with durations, consistency and the schedule. Warnings (default durations) and errors go to
 /// `diags`; an inconsistent network is an error whose labels mark each constraint of the
 /// negative cycle, and the result is `None`.
 pub(crate) fn schedule(
@@ -24,11 +36,16 @@ pub(crate) fn schedule(
     interner: &Interner,
     program: &crate::engine::Program,
     plan: &crate::ir::plan::Plan,
+    arm: Option<ArmOrder<'_>>,
     diags: &mut Diagnostics,
 ) -> Option<Timed> {
     use crate::ir::{pop, schedule, stn};
     use crate::passes;
-    let pop = passes::pop::build(kb, interner, plan);
+    let mut pop = passes::pop::build(kb, interner, plan);
+    if let Some(arm) = arm {
+        passes::pop::order_by_refinement(&mut pop, arm.origin, arm.high);
+        passes::pop::order_units(&mut pop, arm.units);
+    }
     super::verify_after("pop", || pop::verify(kb, &pop));
     let errors_before = diags.error_count();
     let stn = passes::stn::build(kb, interner, program, &pop, diags);
@@ -76,7 +93,7 @@ pub(crate) fn reassign(
                 continue;
             }
             let mut diags = Diagnostics::new();
-            if let Some(scheduled) = schedule(kb, interner, program, &candidate.plan, &mut diags)
+            if let Some(scheduled) = schedule(kb, interner, program, &candidate.plan, None, &mut diags)
                 && scheduled.schedule.makespan < timed.schedule.makespan
             {
                 (plan, timed) = (candidate.plan, scheduled);
@@ -105,7 +122,7 @@ pub struct ReassignedMakespan<'a> {
 
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
-        let timed = schedule(self.kb, self.interner, self.program, plan, &mut Diagnostics::new())?;
+        let timed = schedule(self.kb, self.interner, self.program, plan, None, &mut Diagnostics::new())?;
         let (_, timed) = reassign(self.kb, self.interner, self.program, task, plan.clone(), timed);
         Some(timed.schedule.makespan)
     }
@@ -140,7 +157,7 @@ fn negative_cycle_diagnostic(
                         pop.steps[consumer].conditions.get(condition).map(|c| c.span)
                     }
                     Reason::Threat { condition, .. } => pop.goal.get(condition).map(|c| c.span),
-                    Reason::StartEnd => None,
+                    Reason::StartEnd | Reason::Refinement | Reason::SameUnit => None,
                 }
                 .unwrap_or_else(|| action_span(after));
                 chain.push(format!("{} after {}", step_name(after), step_name(before)));
