@@ -170,6 +170,9 @@ fn check(files: &[PathBuf]) -> Vec<String> {
                     wrong.push(format!("no problem {name}"));
                     continue;
                 };
+                // The search for another plan that refines backtracks over the whole space
+                // within its budget; a small one keeps this test quick in debug builds.
+                let settings = PlanSettings { max_states: 20_000, ..settings.clone() };
                 let refined = session
                     .plan(problem, &settings, &mut Silent)
                     .and_then(|high| session.refine(high, &settings, &mut Silent));

@@ -174,7 +174,9 @@ pub trait Progress {
 /// Scores a complete plan for the heuristic search's improvement phase: its makespan, in STN
 /// units, after the passes that follow the search (for `kbc plan`, the temporal passes and
 /// `reassign`), or `None` when it cannot be scheduled. A plan found while improving is kept
-/// only if its score is shorter than the best so far.
+/// only if its score is shorter than the best so far. The paper's search takes only plans
+/// that get a score and backtracks over the others (the refinement into arm-level actions
+/// uses that to go on searching for a plan that refines).
 pub trait Score {
     /// The score of `plan`, a plan for `task`.
     fn score(&mut self, task: &mut Task, plan: &Plan) -> Option<i64>;
@@ -253,7 +255,10 @@ pub fn search_scored(
     let mut outcome = match options.search {
         SearchKind::Paper => {
             let limit = options.max_depth.or(task.max_depth).unwrap_or(DEFAULT_MAX_DEPTH);
-            paper::search(task, successors, limit, &options.budget, options.plans.max(1), progress)
+            // A scorer that gives a plan no score refuses it, and the search goes on.
+            let mut accept =
+                |task: &mut Task, plan: &Plan| scorer.as_deref_mut().is_none_or(|s| s.score(task, plan).is_some());
+            paper::search(task, successors, limit, &options.budget, options.plans.max(1), &mut accept, progress)
         }
         SearchKind::Heuristic => {
             let (wanted, until) = match options.improve {

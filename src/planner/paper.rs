@@ -30,20 +30,25 @@ struct Frame {
     next: usize,
 }
 
-/// Depth-first search to depth `limit`, until `wanted` plans are found (backtracking after
-/// each, as Prolog would on a `fail` after printing one).
+/// Depth-first search to depth `limit`, until `wanted` plans that `accept` takes are found
+/// (backtracking after each, as Prolog would on a `fail` after printing one; a plan `accept`
+/// refuses is backtracked over the same way).
+#[allow(clippy::too_many_arguments)]
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
     limit: u32,
     budget: &Budget,
     wanted: usize,
+    accept: &mut dyn FnMut(&mut Task, &Plan) -> bool,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
     let init = task.init.clone();
     if successors::goal_reached(task, &init) {
-        return Outcome::ended(vec![plan_from(task, &[])], Failure::Exhausted { depth_limit: Some(limit) }, stats);
+        let plan = plan_from(task, &[]);
+        let found = if accept(task, &plan) { vec![plan] } else { Vec::new() };
+        return Outcome::ended(found, Failure::Exhausted { depth_limit: Some(limit) }, stats);
     }
     let mut found: Vec<Plan> = Vec::new();
     let mut path: Vec<Applicable> = Vec::new();
@@ -79,8 +84,12 @@ pub fn search(
         stats.generated += 1;
         if successors::goal_reached(task, &child) {
             path.push(action);
-            found.push(plan_from(task, &path));
+            let plan = plan_from(task, &path);
             path.pop();
+            if !accept(task, &plan) {
+                continue;
+            }
+            found.push(plan);
             if found.len() >= wanted {
                 return Outcome::ended(found, Failure::Exhausted { depth_limit: Some(limit) }, stats);
             }

@@ -243,6 +243,26 @@ pub struct Refinement {
     pub origin: Vec<usize>,
 }
 
+/// A plan's score for the paper's search when only plans that refine will do: refined, or
+/// refused (see [`planner::Score`]).
+struct Refines<'a> {
+    kb: &'a Kb,
+    interner: &'a Interner,
+    program: &'a Program,
+    arm_problem: usize,
+    timeout: Option<Duration>,
+}
+
+impl planner::Score for Refines<'_> {
+    fn score(&mut self, _task: &mut Task, plan: &Plan) -> Option<i64> {
+        let budget =
+            crate::passes::refine::Budget { deadline: self.timeout.map(|t| Instant::now() + t), ..Default::default() };
+        crate::passes::refine::refine(self.kb, self.interner, self.program, plan, self.arm_problem, budget)
+            .ok()
+            .map(|_| 0)
+    }
+}
+
 /// How many other high-level plans `Session::refine` asks the search for when the first one
 /// does not refine.
 const REFINE_ALTERNATIVES: usize = 8;
@@ -591,31 +611,36 @@ impl Session {
             Ok(arm) => return self.arm_planned(high, arm),
             Err(failed) => failed,
         };
-        let mut tried = vec![high.plan().clone()];
-        // Other high-level plans: more from the same search, then (the heuristic search stops
-        // at one plan per goal state) the paper's depth-first search, which enumerates them.
-        let mut searches =
-            vec![PlanSettings { retries: settings.retries.max(REFINE_ALTERNATIVES), ..settings.clone() }];
-        if settings.search == SearchKind::Heuristic {
-            searches.push(PlanSettings { search: SearchKind::Paper, ..searches[0].clone() });
-        }
-        if first.budget || settings.plan_file.is_some() {
-            searches.clear();
-        }
-        for more in searches {
-            let Ok(searched) = self.search(high.problem, &more, progress) else { continue };
-            for (k, plan) in searched.plans.iter().enumerate() {
-                if tried.contains(plan) {
-                    continue;
+        let mut tried = 1;
+        let mut paper: Option<Failure> = None;
+        if !first.budget && settings.plan_file.is_none() {
+            // Other high-level plans: more from the same search, which stops at one plan per
+            // goal state, so then the paper's depth-first search, which backtracks over every
+            // plan that does not refine until one does or its budget ends.
+            let more = PlanSettings { retries: settings.retries.max(REFINE_ALTERNATIVES), ..settings.clone() };
+            let mut candidates: Vec<(Plan, String, Stats)> = Vec::new();
+            if let Ok(searched) = self.search(high.problem, &more, progress) {
+                let n = searched.plans.len();
+                for (k, plan) in searched.plans.iter().enumerate() {
+                    if plan != high.plan() && !high.plans.contains(plan) {
+                        candidates.push((
+                            plan.clone(),
+                            format!("{}, plan {} of {n}", high.origin, k + 1),
+                            searched.stats,
+                        ));
+                    }
                 }
-                tried.push(plan.clone());
-                let single = PlanSettings { retries: 0, improve: None, ..more.clone() };
-                let search = if more.search == SearchKind::Paper { "paper search" } else { "heuristic search" };
-                let origin = format!("{search}, plan {} of {}", k + 1, searched.plans.len());
+            }
+            tried += candidates.len();
+            match self.refinable_plan(high.problem, arm_problem, settings, progress) {
+                Ok(found) => candidates.push(found),
+                Err(failure) => paper = Some(failure),
+            }
+            for (plan, origin, stats) in candidates {
+                let single = PlanSettings { retries: 0, improve: None, ..settings.clone() };
                 let mut quiet = Diagnostics::new();
                 std::mem::swap(&mut quiet, &mut self.diagnostics);
-                let scheduled =
-                    self.schedule_best(high.problem, vec![plan.clone()], origin, Some(searched.stats), &single);
+                let scheduled = self.schedule_best(high.problem, vec![plan], origin, Some(stats), &single);
                 std::mem::swap(&mut quiet, &mut self.diagnostics);
                 let Ok(alternative) = scheduled else { continue };
                 if let Ok(arm) = self.refine_plan(alternative.plan(), arm_problem, settings) {
@@ -629,14 +654,48 @@ impl Session {
             }
         }
         let mut diagnostic = *first.diagnostic;
-        if tried.len() > 1 {
-            diagnostic = diagnostic.with_note(format!(
-                "{} high-level plans were tried; none refines (the diagnostic is for the first)",
-                tried.len()
-            ));
+        let searched = match paper {
+            Some(Failure::Exhausted { depth_limit: Some(limit) }) => Some(format!(
+                "no high-level plan of up to {limit} snap actions refines (the paper's search tried them all)"
+            )),
+            Some(Failure::Budget(_)) => Some(
+                "the paper's search ran out of its budget before it found a high-level plan that refines".to_string(),
+            ),
+            Some(_) => Some("the paper's search for a high-level plan that refines did not finish".to_string()),
+            None => None,
+        };
+        if let Some(searched) = searched {
+            let others = if tried > 1 {
+                format!("{} other plans of the first search do not refine; ", tried - 1)
+            } else {
+                String::new()
+            };
+            diagnostic = diagnostic.with_note(format!("{others}{searched}; the diagnostic is for the first plan"));
         }
         self.diagnostics.push(diagnostic);
         Err(PlanError::Refinement)
+    }
+
+    /// The paper's depth-first search for a plan of `problem` that refines into arm-level
+    /// actions: it backtracks over every plan that does not, within the settings' budget and
+    /// depth limit. The plan, where it comes from, and the search's figures.
+    fn refinable_plan(
+        &mut self,
+        problem: usize,
+        arm_problem: usize,
+        settings: &PlanSettings,
+        progress: &mut dyn Progress,
+    ) -> Result<(Plan, String, Stats), Failure> {
+        let program = self.program(arm_problem);
+        let options =
+            PlanSettings { search: SearchKind::Paper, retries: 0, improve: None, ..settings.clone() }.options();
+        self.task(problem);
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let task = self.tasks[problem].as_mut().expect("built above");
+        let mut refines = Refines { kb, interner, program: &program, arm_problem, timeout: settings.timeout };
+        let outcome = planner::search_scored(kb, interner, task, &options, Some(&mut refines), progress);
+        let plan = outcome.result?;
+        Ok((plan, "paper search for a plan that refines".to_string(), outcome.stats))
     }
 
     /// Pass `refine` on one high-level plan.
