@@ -264,7 +264,28 @@ pub(super) fn run(args: PlanArgs, color: bool) -> ExitCode {
                 None => plan_text(interner, kb, planned.plan(), states.as_deref(), &problem_name, origin, &figures),
             }
         }
-        OutputFormat::Json => plan_json(kb, interner, planned.plan(), timed, &problem_name, origin, &figures),
+        OutputFormat::Json => {
+            let mut value = plan_json(kb, interner, planned.plan(), timed, &problem_name, origin, &figures);
+            if let Some(refinement) = &planned.refinement {
+                // Each arm-level step says which high-level step it refines (1-based).
+                value["level"] = "arm".into();
+                if let Some(steps) = value["steps"].as_array_mut() {
+                    for (step, origin) in steps.iter_mut().zip(&refinement.origin) {
+                        step["high_level_step"] = (origin + 1).into();
+                    }
+                }
+                let high = refinement.high.plan();
+                value["high_level_steps"] = high
+                    .steps
+                    .iter()
+                    .map(|s| hir::term_to_string(interner, &s.name, &VarTable::default()))
+                    .collect::<Vec<_>>()
+                    .into();
+            } else {
+                value["level"] = "high".into();
+            }
+            format!("{value}\n")
+        }
     };
     print_out(&text);
     ExitCode::SUCCESS
@@ -385,7 +406,7 @@ fn plan_json(
     problem: &str,
     origin: &str,
     figures: &Figures,
-) -> String {
+) -> serde_json::Value {
     let no_vars = VarTable::default();
     let steps: Vec<serde_json::Value> = plan
         .steps
@@ -436,5 +457,5 @@ fn plan_json(
             "process_peak_bytes": crate::source::fs::process_peak_bytes(),
         });
     }
-    format!("{value}\n")
+    value
 }

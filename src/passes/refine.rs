@@ -557,14 +557,25 @@ impl Refiner<'_> {
     fn finish(&mut self, node: &Node, arm_problem: usize) -> Option<ArmPlan> {
         if !node.running.is_empty() {
             let shown: Vec<String> = node.running.iter().map(|r| format!("`{}`", self.show(r))).collect();
+            // The `ll_action` that starts the first of them, to point at.
+            let started = node.running[0].callable().and_then(|(base, arity)| {
+                self.kb.actions.iter().find(|a| {
+                    a.level == Level::Low && a.snap == Snap::Start && a.base == base && a.name.arity() == arity
+                })
+            });
             self.record(node.applied * 2 + 2, None, |r| {
-                Diagnostic::error(
+                let mut diagnostic = Diagnostic::error(
                     codes::REFINEMENT_FAILED,
                     format!("the arm-level plan leaves {} running", shown.join(", ")),
-                )
-                .with_note("every arm-level durative action a mapping starts must end in a later step")
-                .with_note(r.state_note(&node.state))
-                .with_help("add the `_end` step to the mapping that starts it, or to a later action's mapping")
+                );
+                if let Some(action) = started {
+                    diagnostic =
+                        diagnostic.primary(action.name.span, "a mapping starts this, and no later step ends it");
+                }
+                diagnostic
+                    .with_note("every arm-level durative action a mapping starts must end in a later step")
+                    .with_note(r.state_note(&node.state))
+                    .with_help("add the `_end` step to the mapping that starts it, or to a later action's mapping")
             });
             return None;
         }
