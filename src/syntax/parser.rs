@@ -23,7 +23,7 @@ use lalrpop_util::ParseError;
 use super::ast::{Clause, SourceAst, Term, TermKind};
 use super::lexer::{self, Tok, Token};
 use crate::diag::{Diagnostic, Diagnostics, codes};
-use crate::intern::{Interner, sym};
+use crate::intern::{Interner, Symbol, sym};
 use crate::source::{FileId, Span};
 
 lalrpop_util::lalrpop_mod!(
@@ -31,6 +31,22 @@ lalrpop_util::lalrpop_mod!(
     grammar,
     "/kb.rs"
 );
+
+/// An xfy operator chain `a op1 b op2 c ...` as the grammar reads it: the first operand, then
+/// each operator (name and span) with the operand after it.
+pub type XfyChain = (Term, Vec<((Symbol, Span), Term)>);
+
+/// An [`XfyChain`] folded to the right: `a op1 (b op2 c)`. A loop, so a chain of any length
+/// costs no stack.
+pub fn fold_xfy((first, rest): XfyChain) -> Term {
+    let mut rest = rest;
+    let Some((mut op, mut acc)) = rest.pop() else { return first };
+    while let Some((previous_op, operand)) = rest.pop() {
+        acc = Term::infix(op.0, op.1, operand, acc);
+        op = previous_op;
+    }
+    Term::infix(op.0, op.1, first, acc)
+}
 
 /// The lexer error type the grammar declares; never produced, since lexical problems are
 /// reported while cooking tokens.
@@ -156,6 +172,9 @@ impl ClauseStream<'_> {
         let file = self.file;
         loop {
             self.buffer.clear();
+            // A huge clause's tokens (a body of a million goals) need not stay allocated while
+            // the rest of the file and the later passes run.
+            self.buffer.shrink_to(4096);
             self.next = 0;
             self.buffer.extend(self.carried.take());
             let mut end = None;
