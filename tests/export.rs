@@ -1,6 +1,8 @@
 //! `kbc export pddl`: the files are well formed PDDL whose every name is declared and maps back
 //! to the KB, and, where the Kairos planner is installed (`pip install kairos-planner`), the
-//! plans another planner finds for them replay on the KB through kbc's own timed validator.
+//! plans another planner finds for them replay on the KB through kbc's own timed validator,
+//! and kbc's own timed plans, written in the export's names (`--with-plan`), pass Kairos's
+//! validator.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -319,6 +321,26 @@ fn solve_and_validate(kb: &[&str], exported: &Exported) {
     );
 }
 
+/// Kairos's validator accepts the timed plan kbc wrote in the export's names.
+fn kairos_accepts_kbc_plan(kb: &[&str], exported: &Exported) {
+    let Some(kairos) = kairos() else { return };
+    let plan = exported.dir.join("plan.pddl");
+    let output = Command::new(&kairos)
+        .arg("validate")
+        .arg(exported.dir.join("domain.pddl"))
+        .arg(exported.dir.join("problem.pddl"))
+        .arg(&plan)
+        .output()
+        .expect("kairos runs");
+    assert!(
+        output.status.success(),
+        "Kairos rejects kbc's plan for {kb:?}:\n{}\n{}{}",
+        std::fs::read_to_string(&plan).unwrap_or_default(),
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
 #[test]
 fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
     if kairos().is_none() {
@@ -340,6 +362,8 @@ fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
             let exported = export(&kb, &format!("{dir}-{i}-{j}"), extra);
             solve_and_validate(&kb, &exported);
         }
+        let exported = export(&kb, &format!("{dir}-{i}-kbc"), &["--with-plan"]);
+        kairos_accepts_kbc_plan(&kb, &exported);
     }
 }
 

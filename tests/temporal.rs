@@ -61,10 +61,11 @@ fn the_papers_example_reproduces_its_table_of_achievers() {
             .collect();
         assert_eq!(&got, want, "achievers of a{}", i + 1);
     }
-    // The two grip-and-move chains run in parallel: both grips at time 0, both moves at 1.
+    // The two grip-and-move chains run in parallel: both grips at time 0, both moves one ε
+    // after their grips end at 1.
     let at = |i: usize| timed.schedule.earliest[i];
     assert_eq!((at(0), at(3)), (0, 0));
-    assert_eq!((at(2), at(5)), (1000, 1000));
+    assert_eq!((at(2), at(5)), (1001, 1001));
     assert!(at(7) > at(6), "b2 lands after b1, on top of it");
     assert_schedule_valid(&mut session, &timed, &timed.schedule.earliest);
     assert_schedule_valid(&mut session, &timed, &timed.schedule.latest);

@@ -49,6 +49,11 @@ pub(super) struct PddlArgs {
     /// How to print diagnostics: for people, or one JSON object per line on stdout.
     #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
+    /// Also plan the problem (heuristic search, scheduled as `kbc plan --schedule` does) and
+    /// write the timed plan in the export's names to DIR/plan.pddl, for checking kbc's plan
+    /// with other tools (`kairos validate DIR/domain.pddl DIR/problem.pddl DIR/plan.pddl`).
+    #[arg(long)]
+    with_plan: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -80,8 +85,30 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         ));
         return fail(&session);
     }
-    let files =
-        [("domain.pddl", &exported.domain), ("problem.pddl", &exported.problem), ("names.json", &exported.names)];
+    let plan_text = if args.with_plan {
+        let settings = crate::session::PlanSettings::default();
+        let Ok(planned) = session.plan(problem, &settings, &mut crate::planner::Silent) else { return fail(&session) };
+        let names: serde_json::Value = serde_json::from_str(&exported.names).expect("the export writes valid JSON");
+        let (kb, interner) = (session.kb(), session.interner());
+        let timed = &planned.timed;
+        match pddl::plan_to_pddl(&names, kb, interner, planned.plan(), &timed.pop, &timed.schedule) {
+            Ok(text) => Some(text),
+            Err(why) => {
+                session.push(Diagnostic::error(
+                    crate::diag::codes::EXPORT_INEXPRESSIBLE,
+                    format!("kbc's plan cannot be written in the export's names: {why}"),
+                ));
+                return fail(&session);
+            }
+        }
+    } else {
+        None
+    };
+    let mut files =
+        vec![("domain.pddl", &exported.domain), ("problem.pddl", &exported.problem), ("names.json", &exported.names)];
+    if let Some(text) = &plan_text {
+        files.push(("plan.pddl", text));
+    }
     for (name, text) in files {
         let path = args.output.join(name);
         if let Err(error) = super::write_atomically(&path, text.as_bytes()) {
@@ -92,7 +119,8 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
     }
     report(session.db(), session.diagnostics(), args.message_format, color);
     if args.message_format == MessageFormat::Human {
-        super::status(&format!("wrote {}/{{domain.pddl, problem.pddl, names.json}}", args.output.display()));
+        let plan = if plan_text.is_some() { ", plan.pddl" } else { "" };
+        super::status(&format!("wrote {}/{{domain.pddl, problem.pddl, names.json{plan}}}", args.output.display()));
     }
     ExitCode::SUCCESS
 }

@@ -15,7 +15,7 @@ use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
 use petgraph::visit::EdgeRef;
 
 use crate::intern::Interner;
-use crate::ir::hir::{self, Snap, VarTable};
+use crate::ir::hir::{self, VarTable};
 use crate::ir::pop::{Pop, Reason};
 use crate::source::Span;
 
@@ -27,15 +27,11 @@ pub const UNITS: i64 = 1000;
 /// something simply comes later.
 pub const DEFAULT_DURATION: i64 = 1;
 
-/// The least separation, in STN time, between two ordered snap actions, except an end
-/// followed by a start (at equal times ends happen first).
+/// The least separation, in STN time (a thousandth of a time unit), between two ordered snap
+/// actions, an end and a start that depends on it included: PDDL 2.1 asks for a positive ε
+/// between an action and one that needs its effect, and validators (Kairos, for one) reject a
+/// start at the very instant of the end it depends on.
 pub const EPSILON: i64 = 1;
-
-/// The least time between two ordered snap actions of kinds `before` and `after`: none from
-/// an end to a start (at equal times ends happen first), [`EPSILON`] otherwise.
-pub fn separation(before: Snap, after: Snap) -> i64 {
-    if before == Snap::End && after == Snap::Start { 0 } else { EPSILON }
-}
 
 /// A time point: a step of the plan, or the origin.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,7 +13,7 @@ use crate::engine::{Cell, Machine, Next, Program};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Kb, Term, VarId, VarTable};
 use crate::ir::pop::{Pop, PopStep};
-use crate::ir::stn::{Bounds, DEFAULT_DURATION, DurationSource, Edge, EdgeKind, Stn, TimePoint, UNITS, separation};
+use crate::ir::stn::{Bounds, DEFAULT_DURATION, DurationSource, EPSILON, Edge, EdgeKind, Stn, TimePoint, UNITS};
 use crate::ir::unify::unifiable;
 
 /// The durative action `base(args)` a start or end step stands for.
@@ -73,7 +73,7 @@ pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, diags: 
         graph.add_edge(node, origin, Edge { weight: 0, kind: EdgeKind::AfterOrigin });
     }
     for ordering in &pop.orderings {
-        let separation = separation(pop.steps[ordering.before].snap, pop.steps[ordering.after].snap);
+        let separation = EPSILON;
         graph.add_edge(
             nodes[ordering.after],
             nodes[ordering.before],

@@ -5,7 +5,7 @@
 //! the actions whose `add` made its Valid conditions true and those whose `del` removed a fact
 //! its Invalid conditions forbid (the links of the paper's partial order), and, for an end,
 //! its start; its earliest time is the latest achiever's time plus a separation (a thousandth,
-//! none from an end to a start), and an end comes at least its minimum duration after its
+//! `ir::stn::EPSILON`), and an end comes at least its minimum duration after its
 //! start. Times are in STN units (thousandths of a KB time unit), as in `ir::stn`.
 //!
 //! Maximum durations are what makes a prefix unschedulable: an arm that holds a block in the
@@ -107,7 +107,6 @@ pub struct Placement {
 /// One recorded step.
 #[derive(Clone, Debug)]
 struct Placed {
-    snap: Snap,
     time: i64,
     free: i64,
     achievers: Vec<(usize, i64)>,
@@ -139,12 +138,6 @@ impl Timeline {
         self.free_makespan = 0;
     }
 
-    /// The least time between step `from` and a new action of kind `to`
-    /// ([`crate::ir::stn::separation`]).
-    fn separation(&self, from: usize, to: Snap) -> i64 {
-        crate::ir::stn::separation(self.steps[from].snap, to)
-    }
-
     /// Where `action` goes after the prefix recorded so far.
     pub fn place(
         &self,
@@ -161,7 +154,7 @@ impl Timeline {
             let args: Option<Vec<ConstId>> =
                 literal.args.iter().map(|a| successors::instantiate(a, consts, &action.bindings)).collect();
             if let Some(step) = args.and_then(|args| facts.find(literal.pred, &args)).and_then(|f| self.added.get(&f)) {
-                let separation = self.separation(*step, schema.snap);
+                let separation = EPSILON;
                 achievers.push((*step, separation));
                 if !resource {
                     free = free.max(self.steps[*step].free + separation);
@@ -173,7 +166,7 @@ impl Timeline {
         for literal in schema.invalid.iter() {
             for &(fact, step) in self.deleted.get(&literal.pred.0).map(Vec::as_slice).unwrap_or(&[]) {
                 if successors::match_literal(literal, fact, consts, facts, &mut scratch, &mut trail) {
-                    let separation = self.separation(step, schema.snap);
+                    let separation = EPSILON;
                     achievers.push((step, separation));
                     free = free.max(self.steps[step].free + separation);
                 }
@@ -241,7 +234,6 @@ impl Timeline {
         self.makespan = self.makespan.max(placement.until);
         self.free_makespan = self.free_makespan.max(placement.free_until);
         self.steps.push(Placed {
-            snap: schema.snap,
             time: placement.time,
             free: placement.free,
             achievers: placement.achievers,

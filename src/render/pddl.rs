@@ -863,25 +863,33 @@ impl Exporter<'_> {
         let mut taken = Names::default();
         let start_vars = self.var_names(action.start, &mut taken, None);
         let end_vars = action.end.map(|(end, _)| self.var_names(end, &mut taken, Some((action.start, &start_vars))));
-        // Parameters: the name's arguments, then the rest in order of first occurrence.
+        // Parameters: the name's arguments, then the rest in order of first occurrence; each
+        // with the snap action and schema variable it comes from (for writing plans in
+        // these names).
         let mut parameters: Vec<String> = Vec::new();
-        let mut push = |name: &Option<String>| {
+        let mut sources: Vec<serde_json::Value> = Vec::new();
+        let mut push = |name: &Option<String>, snap: &str, var: usize| {
             if let Some(name) = name
                 && !parameters.contains(name)
             {
                 parameters.push(name.clone());
+                sources.push(serde_json::json!([snap, var]));
             }
         };
         if let Pattern::Compound(_, args) = &action.start.name {
             for arg in args.iter() {
                 if let Pattern::Var(v) = arg {
-                    push(&start_vars[*v as usize]);
+                    push(&start_vars[*v as usize], "start", *v as usize);
                 }
             }
         }
-        start_vars.iter().for_each(&mut push);
+        for (v, name) in start_vars.iter().enumerate() {
+            push(name, "start", v);
+        }
         if let Some(end_vars) = &end_vars {
-            end_vars.iter().for_each(&mut push);
+            for (v, name) in end_vars.iter().enumerate() {
+                push(name, "end", v);
+            }
         }
         let mut conditions: Vec<String> = Vec::new();
         let mut effects: Vec<String> = Vec::new();
@@ -937,6 +945,11 @@ impl Exporter<'_> {
         let start_name = self.pattern_text(&action.start.name, &start_vars);
         let mut entry = serde_json::Map::new();
         entry.insert("parameters".into(), serde_json::json!(parameters));
+        entry.insert("sources".into(), serde_json::json!(sources));
+        entry.insert("start_schema".into(), serde_json::json!(action.start.action));
+        if let Some((end, _)) = action.end {
+            entry.insert("end_schema".into(), serde_json::json!(end.action));
+        }
         if let (Some((end, _)), Some(end_vars)) = (action.end, &end_vars) {
             let end_name = self.pattern_text(&end.name, end_vars);
             writeln!(text, "\n  ; {start_name} ... {end_name}").unwrap();
@@ -1280,6 +1293,74 @@ pub fn plan_from_pddl(text: &str, names: &serde_json::Value) -> Result<String, (
         let call = if arguments.is_empty() { format!("({base})") } else { format!("({base} {})", arguments.join(" ")) };
         let after = &rest[close + 1..];
         out.push_str(&format!("{}: {call}{after}\n", time.trim()));
+    }
+    Ok(out)
+}
+
+/// A scheduled kbc plan written as a PDDL 2.1 timed plan in the names of an export
+/// (`names.json` of [`export`] for the same problem): each action as the PDDL action that
+/// stands for its start and end schemas, with its parameters' values (hidden variables
+/// included) as the export's objects, so that other tools (Kairos, VAL, unified-planning) can
+/// validate kbc's plans against the exported domain and problem. `Err` names what `names`
+/// does not know.
+pub fn plan_to_pddl(
+    names: &serde_json::Value,
+    kb: &Kb,
+    interner: &Interner,
+    plan: &crate::ir::plan::Plan,
+    pop: &crate::ir::pop::Pop,
+    schedule: &crate::ir::schedule::Schedule,
+) -> Result<String, String> {
+    let no_vars = VarTable::default();
+    let objects: FxHashMap<&str, &str> = names["objects"]
+        .as_object()
+        .map(|o| o.iter().filter_map(|(name, text)| Some((text.as_str()?, name.as_str()))).collect())
+        .unwrap_or_default();
+    let actions = names["actions"].as_object().ok_or("names.json has no actions")?;
+    let mut ends = vec![None; pop.steps.len()];
+    for (i, step) in pop.steps.iter().enumerate() {
+        if let Some(start) = step.start {
+            ends[start] = Some(i);
+        }
+    }
+    let mut out = String::new();
+    for timed in crate::ir::schedule::timed_actions(kb, pop, schedule) {
+        let start = &plan.steps[timed.step];
+        let end = ends[timed.step].map(|e| &plan.steps[e]);
+        let shown = hir::term_to_string(interner, &timed.name, &no_vars);
+        let (name, entry) = actions
+            .iter()
+            .find(|(_, entry)| {
+                entry["start_schema"].as_u64() == Some(start.action as u64)
+                    && entry["end_schema"].as_u64() == end.map(|e| e.action as u64)
+            })
+            .ok_or_else(|| format!("names.json has no action for `{shown}`"))?;
+        let mut words = vec![name.clone()];
+        for source in entry["sources"].as_array().into_iter().flatten() {
+            let step = match source[0].as_str() {
+                Some("end") => end.ok_or_else(|| format!("`{shown}` has no end"))?,
+                _ => start,
+            };
+            let var = source[1].as_u64().unwrap_or(u64::MAX) as usize;
+            let value = step
+                .bindings
+                .get(var)
+                .cloned()
+                .flatten()
+                .ok_or_else(|| format!("`{shown}` leaves a parameter of `{name}` without a value"))?;
+            let text = hir::term_to_string(interner, &value, &no_vars);
+            let object = objects.get(text.as_str()).ok_or_else(|| format!("names.json has no object for `{text}`"))?;
+            words.push((*object).to_string());
+        }
+        let time = crate::ir::stn::format_time(timed.time);
+        match timed.duration {
+            Some(duration) => {
+                let _ = writeln!(out, "{time}: ({}) [{}]", words.join(" "), crate::ir::stn::format_time(duration));
+            }
+            None => {
+                let _ = writeln!(out, "{time}: ({})", words.join(" "));
+            }
+        }
     }
     Ok(out)
 }
