@@ -79,8 +79,61 @@ pub(super) struct GroundTask {
     supporter: Vec<u32>,
     remaining: Vec<u32>,
     action_cost: Vec<u32>,
-    queue: BinaryHeap<Reverse<(u32, u32)>>,
+    queue: BucketQueue,
     unreached: Vec<usize>,
+}
+
+/// A priority queue of facts by cost for the Dijkstra-like evaluation, where every cost pushed
+/// is at least the last one popped (a fact's cost is a sum of costs already settled plus a
+/// weight): one bucket per cost, popped in order, each a small heap so that facts of one cost
+/// come out lowest id first, exactly as from one binary heap of `(cost, fact)`, but without
+/// sifting through every fact of every cost (which was most of an evaluation on wide grids).
+/// Costs from [`BucketQueue::BUCKETS`] on go to one binary heap.
+#[derive(Debug, Default)]
+struct BucketQueue {
+    buckets: Vec<BinaryHeap<Reverse<u32>>>,
+    /// The lowest bucket that may be non-empty.
+    current: usize,
+    /// One past the highest bucket used since the last clear.
+    used: usize,
+    overflow: BinaryHeap<Reverse<(u32, u32)>>,
+}
+
+impl BucketQueue {
+    const BUCKETS: usize = 1 << 16;
+
+    fn push(&mut self, cost: u32, fact: u32) {
+        let c = cost as usize;
+        if c >= Self::BUCKETS {
+            self.overflow.push(Reverse((cost, fact)));
+            return;
+        }
+        debug_assert!(c >= self.current, "costs pushed never fall below the last popped");
+        if c >= self.buckets.len() {
+            self.buckets.resize_with(c + 1, BinaryHeap::new);
+        }
+        self.buckets[c].push(Reverse(fact));
+        self.used = self.used.max(c + 1);
+    }
+
+    fn pop(&mut self) -> Option<(u32, u32)> {
+        while self.current < self.used {
+            if let Some(Reverse(fact)) = self.buckets[self.current].pop() {
+                return Some((self.current as u32, fact));
+            }
+            self.current += 1;
+        }
+        self.overflow.pop().map(|Reverse(entry)| entry)
+    }
+
+    fn clear(&mut self) {
+        for bucket in &mut self.buckets[..self.used] {
+            bucket.clear();
+        }
+        self.current = 0;
+        self.used = 0;
+        self.overflow.clear();
+    }
 }
 
 fn csr(count: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32>, Vec<u32>) {
@@ -164,7 +217,7 @@ impl GroundTask {
             supporter: vec![NONE; nodes],
             remaining: Vec::new(),
             action_cost: Vec::new(),
-            queue: BinaryHeap::new(),
+            queue: BucketQueue::default(),
             unreached: Vec::new(),
         };
         let push = |task: &mut GroundTask, schema: u32, weight: u32, bindings, mut pre: Vec<u32>, mut add: Vec<u32>| {
@@ -241,7 +294,7 @@ impl GroundTask {
         if !self.done[f] && cost < self.cost[f] {
             self.cost[f] = cost;
             self.supporter[f] = supporter;
-            self.queue.push(Reverse((cost, fact)));
+            self.queue.push(cost, fact);
         }
     }
 
@@ -281,7 +334,7 @@ impl GroundTask {
         let mut remaining_goals = goals;
         let mut h_add = 0u32;
         while remaining_goals > 0 {
-            let Some(Reverse((cost, fact))) = self.queue.pop() else { break };
+            let Some((cost, fact)) = self.queue.pop() else { break };
             let f = fact as usize;
             if self.done[f] || cost > self.cost[f] {
                 continue;
@@ -361,5 +414,49 @@ impl GroundTask {
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+
+    use super::BucketQueue;
+
+    /// The bucket queue pops exactly what one binary heap of `(cost, fact)` pops, for pushes
+    /// that never fall below the last cost popped (as the evaluation's are), costs past the
+    /// buckets included.
+    #[test]
+    fn the_bucket_queue_pops_in_the_order_of_a_binary_heap() {
+        let mut random = kbvm::rng::Rng::new(7);
+        for round in 0..200 {
+            let mut buckets = BucketQueue::default();
+            let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
+            let high = if round % 2 == 0 { 40 } else { BucketQueue::BUCKETS as u32 + 40 };
+            let mut floor = 0u32;
+            for _ in 0..300 {
+                if random.below(3) > 0 {
+                    let cost = floor + random.below(8) as u32 * if random.below(4) == 0 { high / 8 } else { 1 };
+                    let fact = random.below(50) as u32;
+                    buckets.push(cost, fact);
+                    heap.push(Reverse((cost, fact)));
+                } else {
+                    let expected = heap.pop().map(|Reverse(entry)| entry);
+                    assert_eq!(buckets.pop(), expected);
+                    match expected {
+                        Some((cost, _)) => floor = cost,
+                        // Empty: the evaluation stops here too.
+                        None => break,
+                    }
+                }
+            }
+            while let Some(Reverse(entry)) = heap.pop() {
+                assert_eq!(buckets.pop(), Some(entry));
+            }
+            assert_eq!(buckets.pop(), None);
+            buckets.clear();
+            assert_eq!(buckets.pop(), None);
+        }
     }
 }
