@@ -400,7 +400,15 @@ struct Replayer<'a, 'p> {
 
 /// The key of a ground term for the state's sets (its printed form: canonical and ordered).
 fn key(interner: &Interner, term: &Term) -> String {
-    hir::term_to_string(interner, term, &hir::VarTable::default())
+    // Variables of the initial state print from `_G0` on, not from `_G16777216`.
+    fn unshifted(term: &Term) -> Term {
+        match term {
+            Term::Var(v) if v.0 >= STATE_VARS => Term::Var(VarId(v.0 - STATE_VARS)),
+            Term::Compound(f, args) => Term::Compound(*f, args.iter().map(unshifted).collect()),
+            other => other.clone(),
+        }
+    }
+    hir::term_to_string(interner, &unshifted(term), &hir::VarTable::default())
 }
 
 /// Why a candidate schema did not apply, for the message.
