@@ -2,11 +2,15 @@
 //! goal files for the standard blocks world (std/blocks.pl), and a runner that plans each with
 //! a chosen search under a budget and checks every plan with the independent validator.
 //!
-//! Three families, from the paper's cases upwards:
+//! Three families of the standard blocks world, from the paper's cases upwards:
 //! - `build`: every block alone on the table; the goal stacks them into towers of at most five;
 //! - `reverse`: towers of at most five; the goal is each tower upside down, on the same cell;
 //! - `swap`: at least two towers; the goal moves each tower, in the same order, to the next
 //!   tower's cell (a rotation), so blocks must wait on free cells.
+//!
+//! And a fourth in the style other authors write their KBs (`grid`, [`grid`]): a domain of its
+//! own, with agents as `agent/1` and positions as `pos/2` facts, one `move` durative action
+//! whose end takes its destination from the start, and blocks rearranged among the cells.
 //!
 //! The table is a grid five cells wide with two more cells than blocks (`cell/2` facts), so a
 //! 20-block problem has 22 cells, as in the issue that asked for the ladder. Which block goes
@@ -30,6 +34,9 @@ pub enum Family {
     Reverse,
     /// Towers moved, order kept, each to the next tower's cell.
     Swap,
+    /// Blocks rearranged among the cells of a grid, in a KB written in other authors' style
+    /// (`agent/1`, `pos/2`, `at/3`, `move_start`/`move_end`), not the standard blocks world.
+    Grid,
 }
 
 impl Family {
@@ -39,6 +46,7 @@ impl Family {
             Family::Build => "build",
             Family::Reverse => "reverse",
             Family::Swap => "swap",
+            Family::Grid => "grid",
         }
     }
 }
@@ -77,7 +85,24 @@ pub const SIZES: [(usize, usize); 16] = [
     (100, 10),
 ];
 
-/// The standard ladder: every family at every size, seed 1.
+/// The sizes of the grid rungs (blocks, agents): the 10-20 blocks and 2-3 agents that KBs in
+/// other authors' style use.
+pub const GRID_SIZES: [(usize, usize); 4] = [(6, 2), (10, 2), (15, 3), (20, 3)];
+
+/// The grid rungs ([`Family::Grid`]) at every size of [`GRID_SIZES`], seed 1. They are not
+/// in [`standard`], whose rungs are problems of the standard blocks world.
+pub fn grid() -> Vec<Rung> {
+    GRID_SIZES.iter().map(|&(blocks, arms)| Rung { family: Family::Grid, blocks, arms, seed: 1 }).collect()
+}
+
+/// Every rung `kbc bench` runs: the standard ladder, then the grid rungs.
+pub fn all() -> Vec<Rung> {
+    let mut rungs = standard();
+    rungs.extend(grid());
+    rungs
+}
+
+/// The standard ladder: every family of the standard blocks world at every size, seed 1.
 pub fn standard() -> Vec<Rung> {
     let mut rungs = Vec::new();
     for family in [Family::Build, Family::Reverse, Family::Swap] {
@@ -138,12 +163,56 @@ impl Rung {
                 let goal = (0..init.len()).map(|i| (init[(i + 1) % init.len()].0, init[i].1.clone())).collect();
                 (init, goal)
             }
+            // One block per cell, at the start and in the goal, each drawn independently.
+            Family::Grid => {
+                let init = blocks.iter().zip(&cells).map(|(b, c)| (*c, vec![*b])).collect();
+                let mut goal_cells = cells.clone();
+                random.shuffle(&mut goal_cells);
+                let goal = blocks.iter().zip(&goal_cells).map(|(b, c)| (*c, vec![*b])).collect();
+                (init, goal)
+            }
         }
     }
 
+    /// The grid rung's KB: its own domain in other authors' style and one test.
+    fn grid_source(&self) -> String {
+        let (init, goal) = self.towers();
+        let mut out = format!(
+            "% The kbc scaling ladder: family grid, {} blocks, {} agents, seed {} (written by `kbc bench`).\n",
+            self.blocks, self.arms, self.seed
+        );
+        out.push_str("% A KB in the style other authors write: agents, blocks and positions as facts.\n");
+        for a in 1..=self.arms {
+            out.push_str(&format!("agent(a{a}).\n"));
+        }
+        for b in 1..=self.blocks {
+            out.push_str(&format!("block(b{b}).\n"));
+        }
+        for (x, y) in self.cells() {
+            out.push_str(&format!("pos({x}, {y}).\n"));
+        }
+        out.push_str(GRID_DOMAIN);
+        let arms: Vec<String> = (1..=self.arms).map(|a| format!("free(a{a})")).collect();
+        let placed = |towers: &[Tower]| -> Vec<String> {
+            towers.iter().flat_map(|((x, y), t)| t.iter().map(move |b| format!("at(b{b}, {x}, {y})"))).collect()
+        };
+        let init = [arms, placed(&init)].concat();
+        out.push_str(&format!(
+            "{} :- go(\n  [\n    {}\n  ],\n  [\n    {}\n  ]\n).\n",
+            self.name(),
+            init.join(",\n    "),
+            placed(&goal).join(",\n    ")
+        ));
+        out
+    }
+
     /// The goal file: the table's `cell/2` facts and one test `name :- go(Init, Goal).`, for
-    /// the standard blocks world. Arms are `a1`..; blocks `b1`...
+    /// the standard blocks world (a whole KB of its own for a grid rung). Arms are `a1`..;
+    /// blocks `b1`...
     pub fn source(&self) -> String {
+        if self.family == Family::Grid {
+            return self.grid_source();
+        }
         let (init, goal) = self.towers();
         let mut out = format!(
             "% The kbc scaling ladder: family {}, {} blocks, {} arms, seed {} (written by `kbc bench`).\n",
@@ -178,8 +247,27 @@ impl Rung {
     }
 }
 
+/// The domain of the grid rungs, in the style of the paper's authors' KBs: the move's end
+/// names its destination only in its head (it takes the start's values).
+const GRID_DOMAIN: &str = "resources(agent(_)).
+action(move_start(A, B, X1, Y1, X2, Y2),
+    [free(A), at(B, X1, Y1)],
+    [at(_, X2, Y2), moving(_, _, _, _, X2, Y2)],
+    [],
+    [agent(A), block(B), pos(X2, Y2)],
+    [del(free(A)), del(at(B, X1, Y1)), add(moving(A, B, X1, Y1, X2, Y2))]).
+action(move_end(A, B, X1, Y1, X2, Y2),
+    [moving(A, B, X1, Y1, _, _)],
+    [],
+    [],
+    [],
+    [del(moving(A, B, X1, Y1, X2, Y2)), add(at(B, X2, Y2)), add(free(A))]).
+duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1), Max is 2 * D + 2.
+";
+
 /// A lower bound on the makespan of every plan of a rung, in STN time, and the three
-/// arguments it is the largest of. Each uses the least durations the KB's `duration/3` gives
+/// arguments it is the largest of (for a grid rung: the work and the longest block's move;
+/// no chain). Each uses the least durations the KB's `duration/3` gives
 /// (asked of the engine, as the STN pass does), and holds for any plan of the standard
 /// blocks world:
 ///
@@ -212,6 +300,29 @@ impl Rung {
         let (init, goal) = self.towers();
         let atom = |session: &mut Session, name: &str| Term::Atom(session.intern(name));
         let (arm, block) = (atom(session, "a1"), atom(session, "b1"));
+        if self.family == Family::Grid {
+            // Each block not on its goal cell moves at least once; no block stands on another,
+            // so nothing chains.
+            let move_symbol = session.intern("move");
+            let mut works = Vec::new();
+            let at = |towers: &[Tower]| -> std::collections::BTreeMap<usize, (usize, usize)> {
+                towers.iter().flat_map(|(c, t)| t.iter().map(move |b| (*b, *c))).collect()
+            };
+            let (from, to) = (at(&init), at(&goal));
+            for (b, target) in &to {
+                let start = from[b];
+                if start != *target {
+                    let cell = |v: usize| Term::Int(v as i64);
+                    let args =
+                        [arm.clone(), block.clone(), cell(start.0), cell(start.1), cell(target.0), cell(target.1)];
+                    works.push(session.min_duration(0, &Term::Compound(move_symbol, Box::new(args))));
+                }
+            }
+            let arms = self.arms.max(1) as i64;
+            let work = (works.iter().sum::<i64>() + arms - 1) / arms;
+            let block = works.iter().copied().max().unwrap_or(0);
+            return LowerBound { makespan: work.max(block), work, block, chain: 0 };
+        }
         let grip = Term::Compound(session.intern("grip"), Box::new([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Box::new([arm.clone(), block.clone()]));
         let (grip, release) = (session.min_duration(0, &grip), session.min_duration(0, &release));

@@ -53,7 +53,7 @@ enum Format {
 }
 
 pub(super) fn run(args: BenchArgs) -> ExitCode {
-    let rungs: Vec<Rung> = ladder::standard()
+    let rungs: Vec<Rung> = ladder::all()
         .into_iter()
         .map(|r| Rung { seed: args.seed, ..r })
         .filter(|r| args.filter.as_deref().is_none_or(|f| r.name().contains(f)))
