@@ -382,6 +382,7 @@ fn pictures_of_the_partial_order_the_stn_and_the_schedule() {
     assert_eq!(pop.status.code(), Some(0), "{}", stderr(&pop));
     assert!(stdout(&pop).starts_with("digraph partial_order {"));
     assert!(stdout(&pop).contains("a7 -> a8;"), "{}", stdout(&pop));
+    assert!(stdout(&pop).contains("label=\"a box per snap action"), "a legend: {}", stdout(&pop));
     let stn = kbc(&["plan", "examples/06_partial_order/kb.pl", "--emit", "stn-dot"]);
     assert!(stdout(&stn).starts_with("digraph stn {"));
     assert!(stdout(&stn).contains("color=blue"), "duration edges: {}", stdout(&stn));
@@ -400,6 +401,11 @@ fn pictures_of_the_partial_order_the_stn_and_the_schedule() {
     assert!(svg.starts_with("<svg"));
     for arm in ["a1", "a2", "a3"] {
         assert!(svg.contains(&format!(">{arm}</text>")), "a lane for {arm}");
+    }
+    // The legend: a swatch and a name for each action, in the bars' colours.
+    for action in ["grip", "move_block", "release"] {
+        let swatch = svg.lines().find(|l| l.contains(&format!(">{action}</text>")) && l.starts_with("<rect"));
+        assert!(swatch.is_some_and(|l| l.contains("width=\"10\"")), "a legend entry for {action}: {svg}");
     }
     assert_eq!(
         kbc(&["plan", "examples/06_partial_order/kb.pl", "-o", "x.svg"]).status.code(),

@@ -38,6 +38,11 @@ fn step_label(interner: &Interner, pop: &Pop, i: usize) -> String {
 /// bold from a start to its end, dashed for threats).
 pub fn pop(interner: &Interner, pop: &Pop) -> String {
     let mut out = String::from("digraph partial_order {\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\"];\n");
+    let legend = "a box per snap action (aN: step N of the plan); an edge x -> y: x comes before y. \
+                  solid: x achieves a condition of y; bold: a start and its end; dashed: a threat \
+                  ordering (it keeps a deletion or an addition from breaking a causal link); dotted: the refinement's \
+                  or one arm's order (arm-level plans); grey from a0: needs only the initial state";
+    let _ = writeln!(out, "  labelloc=t;\n  fontname=\"Helvetica\";\n  label={};", quote(legend));
     let _ = writeln!(out, "  a0 [label={}, shape=ellipse];", quote("a0: initial state"));
     for i in 0..pop.steps.len() {
         let _ = writeln!(out, "  a{} [label={}];", i + 1, quote(&step_label(interner, pop, i)));

@@ -168,7 +168,8 @@ pub fn schedule_bars(
 pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)], span: i64) -> String {
     let span = span.max(UNITS);
     let x = |t: i64| LEFT + t.clamp(0, span) * WIDTH / span;
-    let height = 40 + LANE * lanes.len().max(1) as i64 + 30;
+    // The chart, its axis, then a legend row.
+    let height = 40 + LANE * lanes.len().max(1) as i64 + 30 + 22;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -237,6 +238,40 @@ pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)]
             "<line x1=\"{0}\" y1=\"26\" x2=\"{0}\" y2=\"{axis}\" stroke=\"#d00\" stroke-dasharray=\"4 3\"><title>{1}</title></line>",
             x(*t),
             escape(text)
+        );
+    }
+    // The legend: a swatch per action, then what outlines, grey and dashed lines mean where
+    // the chart has them. (Widths estimated at 7 px a character.)
+    let legend_y = axis + 30;
+    let mut at = LEFT;
+    let mut entries: Vec<(String, String)> = colours
+        .iter()
+        .enumerate()
+        .map(|(i, name)| (format!("fill=\"{}\"", PALETTE[i % PALETTE.len()]), (*name).to_string()))
+        .collect();
+    if bars.iter().any(|b| b.ending == Ending::Failed) {
+        entries.push(("fill=\"white\" stroke=\"#d00\" stroke-width=\"2\"".to_string(), "failed".to_string()));
+    }
+    if bars.iter().any(|b| b.ending == Ending::Halted) {
+        entries.push(("fill=\"#bbb\"".to_string(), "halted".to_string()));
+    }
+    for (style, text) in &entries {
+        let _ = writeln!(
+            out,
+            "<rect x=\"{at}\" y=\"{}\" width=\"10\" height=\"10\" {style}/><text x=\"{}\" y=\"{legend_y}\">{}</text>",
+            legend_y - 9,
+            at + 14,
+            escape(text)
+        );
+        at += 14 + 7 * text.chars().count() as i64 + 16;
+    }
+    if !marks.is_empty() {
+        let _ = writeln!(
+            out,
+            "<line x1=\"{at}\" y1=\"{0}\" x2=\"{at}\" y2=\"{1}\" stroke=\"#d00\" stroke-dasharray=\"4 3\"/><text x=\"{2}\" y=\"{legend_y}\">fault</text>",
+            legend_y - 10,
+            legend_y + 2,
+            at + 6
         );
     }
     out.push_str("</svg>\n");
