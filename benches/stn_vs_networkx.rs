@@ -85,7 +85,7 @@ fn plan_like(points: usize, seed: u64) -> Stn {
     for &node in &nodes {
         graph.add_edge(node, origin, Edge { weight: 0, kind: EdgeKind::AfterOrigin });
     }
-    Stn { graph, origin, nodes, durations }
+    Stn { graph, origin, nodes, durations, epsilon: kbc::ir::stn::EPSILON }
 }
 
 /// The network as the Python side reads it; parallel edges keep the tightest weight (a

@@ -768,3 +768,21 @@ fn the_stn_picture_ties_the_first_steps_to_the_origin() {
     assert_eq!(to_origin, ["a1", "a4"], "{dot}");
     assert!(dot.contains("label=\"the distance graph"), "a legend: {dot}");
 }
+
+#[test]
+fn epsilon_separates_an_end_from_the_start_that_depends_on_it() {
+    let kb = "examples/03_paper_schema/kb.pl";
+    // The put-down needs the grip's effect: by default it starts 0.001 after the grip ends,
+    // with --epsilon 0.01 that much later; nothing starts at the instant of its achiever's end.
+    for (epsilon, start) in [(None, "1.001: (put_down a1 b1 2 2)"), (Some("0.01"), "1.010: (put_down a1 b1 2 2)")] {
+        let mut args = vec!["plan", "--schedule", kb];
+        args.extend(epsilon.map(|e| ["--epsilon", e]).into_iter().flatten());
+        let out = kbc(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        assert!(stdout(&out).contains(start), "{epsilon:?}: {}", stdout(&out));
+    }
+    for bad in ["0", "0.0001", "-1", "x", "1e9"] {
+        let out = kbc(&["plan", "--epsilon", bad, kb]);
+        assert_eq!(out.status.code(), Some(2), "--epsilon {bad}: {}", stderr(&out));
+    }
+}

@@ -32,7 +32,7 @@ fn budget(seconds: u64) -> Budget {
 
 fn plan(frontend: &Frontend, problem: usize, search: SearchKind) -> Plan {
     let mut task = passes::task::build(&frontend.kb, problem);
-    let options = Options { search, max_depth: None, budget: budget(60), plans: 1, improve: None };
+    let options = Options { search, budget: budget(60), ..Options::default() };
     let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
     outcome.result.unwrap_or_else(|failure| panic!("no plan: {failure:?}"))
 }
@@ -86,6 +86,7 @@ fn the_paper_search_gives_up_on_the_four_block_case_within_its_budget() {
         budget: Budget { max_states: 20_000, ..Budget::default() },
         plans: 1,
         improve: None,
+        ..Options::default()
     };
     let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
     assert_eq!(outcome.result.err(), Some(planner::Failure::Budget(planner::BudgetKind::States)));
@@ -272,6 +273,7 @@ fn without_grounding_the_lifted_heuristic_still_plans() {
             budget: Budget { max_ground_actions: 0, ..budget(60) },
             plans: 1,
             improve: None,
+            ..Options::default()
         };
         let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
         let plan = outcome.result.unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));

@@ -770,7 +770,7 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
             Reference::Plan(plan) => Some((plan.len() as u32).max(12)),
             _ => Some(12),
         };
-        let options = Options { search, max_depth, budget, plans: 1, improve: None };
+        let options = Options { search, max_depth, budget, plans: 1, improve: None, ..Options::default() };
         let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
         match (outcome.result, &reference) {
             (Ok(plan), _) => {
@@ -1004,7 +1004,8 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         }
         let mut task = kbc::passes::task::build(&frontend.kb, 0);
         let budget = Budget { max_states: 100_000, ..Budget::default() };
-        let options = Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, improve: None };
+        let options =
+            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, ..Options::default() };
         let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result {
             Ok(plan) => plan
                 .steps

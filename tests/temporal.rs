@@ -208,7 +208,7 @@ fn random_stn(n: usize, seed: u64) -> Stn {
             graph.add_edge(nodes[start], nodes[after], Edge { weight, kind: EdgeKind::MaxDuration { start, source } });
         }
     }
-    Stn { graph, origin, nodes, durations: vec![None; n] }
+    Stn { graph, origin, nodes, durations: vec![None; n], epsilon: kbc::ir::stn::EPSILON }
 }
 
 #[test]
@@ -275,6 +275,7 @@ fn improving_the_makespan_never_makes_it_longer() {
         budget,
         plans: usize::MAX,
         improve: Some(Duration::from_millis(500)),
+        ..Options::default()
     };
     let outcome = planner::search(session.kb(), session.interner(), &mut task, &options, &mut Silent);
     let first = outcome.result.expect("a plan");
@@ -327,8 +328,12 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
         budget: Budget { max_states: 2_000, ..Budget::default() },
         plans: 1,
         improve: Some(Duration::from_secs(600)),
+        ..Options::default()
     };
-    let mut recording = Recording { inner: ReassignedMakespan { kb, interner, program: &program }, scored: vec![] };
+    let mut recording = Recording {
+        inner: ReassignedMakespan { kb, interner, program: &program, epsilon: kbc::ir::stn::EPSILON },
+        scored: vec![],
+    };
     let outcome = planner::search_scored(kb, interner, &mut task, &options, Some(&mut recording), &mut Silent);
     let first = outcome.result.expect("a plan");
     let mut kept = vec![first];

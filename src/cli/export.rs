@@ -54,6 +54,10 @@ pub(super) struct PddlArgs {
     /// with other tools (`kairos validate DIR/domain.pddl DIR/problem.pddl DIR/plan.pddl`).
     #[arg(long)]
     with_plan: bool,
+    /// With `--with-plan`: the least time between two ordered snap actions of the plan, as
+    /// for `kbc plan --epsilon`.
+    #[arg(long, value_name = "TIME", default_value = "0.001", value_parser = super::plan::parse_epsilon, requires = "with_plan")]
+    epsilon: i64,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -86,7 +90,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         return fail(&session);
     }
     let plan_text = if args.with_plan {
-        let settings = crate::session::PlanSettings::default();
+        let settings = crate::session::PlanSettings { epsilon: args.epsilon, ..Default::default() };
         let Ok(planned) = session.plan(problem, &settings, &mut crate::planner::Silent) else { return fail(&session) };
         let names: serde_json::Value = serde_json::from_str(&exported.names).expect("the export writes valid JSON");
         let (kb, interner) = (session.kb(), session.interner());

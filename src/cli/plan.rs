@@ -71,6 +71,21 @@ pub(super) struct PlanningArgs {
     /// `mapping/2` and `ll_action/6` (with its own achievers, schedule and tree).
     #[arg(long, value_enum, default_value_t = LevelArg::High)]
     pub(super) level: LevelArg,
+    /// The least time between two ordered snap actions, an end and a start that depends on
+    /// it included, in time units (kbc keeps thousandths). The default suits Kairos; VAL's
+    /// default tolerance wants 0.01.
+    #[arg(long, value_name = "TIME", default_value = "0.001", value_parser = parse_epsilon)]
+    pub(super) epsilon: i64,
+}
+
+/// `--epsilon`: a time of at least 0.001 and at most 1000 time units, in STN time.
+pub(super) fn parse_epsilon(text: &str) -> Result<i64, String> {
+    let value: f64 = text.parse().map_err(|_| format!("`{text}` is not a number"))?;
+    let thousandths = (value * crate::ir::stn::UNITS as f64).round();
+    if !(1.0..=1_000_000.0).contains(&thousandths) {
+        return Err("expected a time from 0.001 to 1000".to_string());
+    }
+    Ok(thousandths as i64)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -174,6 +189,7 @@ impl PlanningArgs {
             improve: self.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
             reassign: !self.no_reassign,
             plan_file: None,
+            epsilon: self.epsilon,
         }
     }
 }

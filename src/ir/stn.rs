@@ -27,8 +27,8 @@ pub const UNITS: i64 = 1000;
 /// something simply comes later.
 pub const DEFAULT_DURATION: i64 = 1;
 
-/// The least separation, in STN time (a thousandth of a time unit), between two ordered snap
-/// actions, an end and a start that depends on it included: PDDL 2.1 asks for a positive ε
+/// The default least separation, in STN time (a thousandth of a time unit), between two
+/// ordered snap actions, an end and a start that depends on it included: PDDL 2.1 asks for a positive ε
 /// between an action and one that needs its effect, and validators (Kairos, for one) reject a
 /// start at the very instant of the end it depends on.
 pub const EPSILON: i64 = 1;
@@ -112,6 +112,9 @@ pub struct Stn {
     pub nodes: Vec<NodeIndex>,
     /// For each start step, its action's bounds.
     pub durations: Vec<Option<Bounds>>,
+    /// The least separation of two ordered snap actions in this network, in STN time
+    /// ([`EPSILON`] unless asked otherwise: `--epsilon`).
+    pub epsilon: i64,
 }
 
 impl TimePoint {

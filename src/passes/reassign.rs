@@ -35,7 +35,7 @@ use rustc_hash::FxHashMap;
 use crate::ir::hir::{EffectKind, Kb, Snap, Term};
 use crate::ir::plan::{Plan, Step};
 use crate::ir::pop::{ConditionKind, Pop, Reason};
-use crate::ir::stn::{EPSILON, Stn};
+use crate::ir::stn::Stn;
 use crate::ir::unify::unifiable;
 use crate::passes::pop::instantiate;
 
@@ -230,11 +230,11 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
         if literal.is_some_and(through_resource) {
             continue;
         }
-        preds[ordering.after].push((ordering.before, EPSILON));
+        preds[ordering.after].push((ordering.before, stn.epsilon));
     }
     for (end, step) in pop.steps.iter().enumerate() {
         if let Some(start) = step.start {
-            let min = stn.durations[start].map_or(EPSILON, |b| b.min.max(EPSILON));
+            let min = stn.durations[start].map_or(stn.epsilon, |b| b.min.max(stn.epsilon));
             preds[end].push((start, min));
         }
     }

@@ -13,7 +13,7 @@ use crate::engine::{Cell, Machine, Next, Program};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Kb, Term, VarId, VarTable};
 use crate::ir::pop::{Pop, PopStep};
-use crate::ir::stn::{Bounds, DEFAULT_DURATION, DurationSource, EPSILON, Edge, EdgeKind, Stn, TimePoint, UNITS};
+use crate::ir::stn::{Bounds, DEFAULT_DURATION, DurationSource, Edge, EdgeKind, Stn, TimePoint, UNITS};
 use crate::ir::unify::unifiable;
 
 /// The durative action `base(args)` a start or end step stands for.
@@ -65,7 +65,7 @@ pub(crate) fn query_duration(machine: &mut Machine<'_>, instance: &Term) -> Resu
 
 /// Builds the STN of `pop`. Durations come from `program` (the KB's clauses); warnings for
 /// actions without one, and errors for unusable ones, go to `diags`.
-pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, diags: &mut Diagnostics) -> Stn {
+pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, epsilon: i64, diags: &mut Diagnostics) -> Stn {
     let mut graph: DiGraph<TimePoint, Edge> = DiGraph::new();
     let origin = graph.add_node(TimePoint::Origin);
     let nodes: Vec<_> = (0..pop.steps.len()).map(|i| graph.add_node(TimePoint::Step(i))).collect();
@@ -73,7 +73,7 @@ pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, diags: 
         graph.add_edge(node, origin, Edge { weight: 0, kind: EdgeKind::AfterOrigin });
     }
     for ordering in &pop.orderings {
-        let separation = EPSILON;
+        let separation = epsilon;
         graph.add_edge(
             nodes[ordering.after],
             nodes[ordering.before],
@@ -167,5 +167,5 @@ pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, diags: 
             Edge { weight: -bounds.min, kind: EdgeKind::MinDuration { start, source: bounds.source } },
         );
     }
-    Stn { graph, origin, nodes, durations }
+    Stn { graph, origin, nodes, durations, epsilon }
 }

@@ -133,6 +133,7 @@ pub fn search(
     wanted: usize,
     improve_until: Option<Instant>,
     temporal: bool,
+    epsilon: i64,
     mut scorer: Option<&mut dyn Score>,
     progress: &mut dyn Progress,
 ) -> Outcome {
@@ -172,7 +173,7 @@ pub fn search(
     let mut preferred: BinaryHeap<Entry> = BinaryHeap::new();
     regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
     let mut durations = Durations::default();
-    let mut timeline = Timeline::default();
+    let mut timeline = Timeline::new(epsilon);
     let mut path: Vec<u32> = Vec::new();
     let mut from_preferred = false;
     let mut applicable = Vec::new();

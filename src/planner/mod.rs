@@ -82,11 +82,21 @@ pub struct Options {
     /// For the heuristic search: how long to go on improving the makespan after the first
     /// plan (within the budget).
     pub improve: Option<Duration>,
+    /// The least separation of two ordered snap actions, in STN time, for the heuristic
+    /// search's timing of plan prefixes (the same as the temporal network's).
+    pub epsilon: i64,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { search: SearchKind::Heuristic, max_depth: None, budget: Budget::default(), plans: 1, improve: None }
+        Options {
+            search: SearchKind::Heuristic,
+            max_depth: None,
+            budget: Budget::default(),
+            plans: 1,
+            improve: None,
+            epsilon: crate::ir::stn::EPSILON,
+        }
     }
 }
 
@@ -272,6 +282,7 @@ pub fn search_scored(
                 wanted,
                 until,
                 true,
+                options.epsilon,
                 scorer.as_mut().map(|s| &mut **s as &mut dyn Score),
                 progress,
             );
@@ -281,8 +292,17 @@ pub fn search_scored(
                 // a diagnostic naming the constraints that cannot be met, which says far more
                 // than "no plan".
                 let successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
-                let mut retry =
-                    best_first::search(task, successors, &options.budget, wanted, until, false, scorer, progress);
+                let mut retry = best_first::search(
+                    task,
+                    successors,
+                    &options.budget,
+                    wanted,
+                    until,
+                    false,
+                    options.epsilon,
+                    scorer,
+                    progress,
+                );
                 retry.stats.unschedulable += outcome.stats.unschedulable;
                 retry
             } else {

@@ -114,8 +114,10 @@ struct Placed {
 }
 
 /// The steps of a plan prefix and, for each fact, the last step that added or deleted it.
-#[derive(Clone, Default)]
+#[derive(Clone)]
 pub struct Timeline {
+    /// The least separation of two ordered snap actions.
+    epsilon: i64,
     added: FxHashMap<FactId, usize>,
     /// Per predicate, the facts deleted and by which step (the latest deletion of each).
     deleted: FxHashMap<u32, Vec<(FactId, usize)>>,
@@ -127,7 +129,26 @@ pub struct Timeline {
     pub free_makespan: i64,
 }
 
+impl Default for Timeline {
+    fn default() -> Timeline {
+        Timeline::new(EPSILON)
+    }
+}
+
 impl Timeline {
+    /// An empty timeline whose ordered snap actions are at least `epsilon` apart.
+    pub fn new(epsilon: i64) -> Timeline {
+        Timeline {
+            epsilon,
+            added: FxHashMap::default(),
+            deleted: FxHashMap::default(),
+            started: FxHashMap::default(),
+            steps: Vec::new(),
+            makespan: 0,
+            free_makespan: 0,
+        }
+    }
+
     /// Forgets everything, for reuse.
     pub fn clear(&mut self) {
         self.added.clear();
@@ -154,7 +175,7 @@ impl Timeline {
             let args: Option<Vec<ConstId>> =
                 literal.args.iter().map(|a| successors::instantiate(a, consts, &action.bindings)).collect();
             if let Some(step) = args.and_then(|args| facts.find(literal.pred, &args)).and_then(|f| self.added.get(&f)) {
-                let separation = EPSILON;
+                let separation = self.epsilon;
                 achievers.push((*step, separation));
                 if !resource {
                     free = free.max(self.steps[*step].free + separation);
@@ -166,7 +187,7 @@ impl Timeline {
         for literal in schema.invalid.iter() {
             for &(fact, step) in self.deleted.get(&literal.pred.0).map(Vec::as_slice).unwrap_or(&[]) {
                 if successors::match_literal(literal, fact, consts, facts, &mut scratch, &mut trail) {
-                    let separation = EPSILON;
+                    let separation = self.epsilon;
                     achievers.push((step, separation));
                     free = free.max(self.steps[step].free + separation);
                 }
@@ -183,18 +204,18 @@ impl Timeline {
                 if let Some(&start) = action.ends.as_ref().and_then(|instance| self.started.get(instance)) {
                     let instance = action.ends.expect("checked above");
                     let (min, max) = durations.bounds(consts, machine, action.schema, instance)?;
-                    time = time.max(self.steps[start].time + min.max(EPSILON));
+                    time = time.max(self.steps[start].time + min.max(self.epsilon));
                     until = time;
-                    free = free.max(self.steps[start].free + min.max(EPSILON));
+                    free = free.max(self.steps[start].free + min.max(self.epsilon));
                     free_until = free;
-                    end_of = Some((start, min.max(EPSILON), max));
+                    end_of = Some((start, min.max(self.epsilon), max));
                 }
             }
             Snap::Start => {
                 if let Some(instance) = successors::running_instance(schema, consts, &action.bindings) {
                     let (min, _) = durations.bounds(consts, machine, action.schema, instance)?;
-                    until = time.saturating_add(min.max(EPSILON));
-                    free_until = free.saturating_add(min.max(EPSILON));
+                    until = time.saturating_add(min.max(self.epsilon));
+                    free_until = free.saturating_add(min.max(self.epsilon));
                     starts = Some(instance);
                 }
             }

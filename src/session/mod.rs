@@ -135,6 +135,9 @@ pub struct PlanSettings {
     pub reassign: bool,
     /// Schedule this plan file (read into the session) instead of searching.
     pub plan_file: Option<FileId>,
+    /// The least separation of two ordered snap actions, in STN time (thousandths of a time
+    /// unit): [`crate::ir::stn::EPSILON`] by default.
+    pub epsilon: i64,
 }
 
 impl Default for PlanSettings {
@@ -150,6 +153,7 @@ impl Default for PlanSettings {
             improve: None,
             reassign: true,
             plan_file: None,
+            epsilon: crate::ir::stn::EPSILON,
         }
     }
 }
@@ -168,6 +172,7 @@ impl PlanSettings {
             },
             plans: self.retries + 1,
             improve: self.improve,
+            epsilon: self.epsilon,
         }
     }
 
@@ -491,7 +496,7 @@ impl Session {
         let options = settings.options();
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
         let task = self.tasks[problem].as_mut().expect("built above");
-        let mut scorer = ReassignedMakespan { kb, interner, program: &program };
+        let mut scorer = ReassignedMakespan { kb, interner, program: &program, epsilon: settings.epsilon };
         let scorer = settings.scored().then_some(&mut scorer as &mut dyn planner::Score);
         let outcome = planner::search_scored(kb, interner, task, &options, scorer, progress);
         let found = match outcome.result {
@@ -734,7 +739,10 @@ impl Session {
         let program = self.program(plan.problem);
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
         let order = temporal::ArmOrder { origin: &origin, high: &high.timed.pop, units: &units };
-        let Some(timed) = temporal::schedule(kb, interner, &program, &plan, Some(order), &mut self.diagnostics) else {
+        let epsilon = high.timed.stn.epsilon;
+        let Some(timed) =
+            temporal::schedule(kb, interner, &program, &plan, Some(order), epsilon, &mut self.diagnostics)
+        else {
             return Err(PlanError::Unschedulable);
         };
         let origin_text = format!("{}, refined into arm-level actions", high.origin);
@@ -824,7 +832,7 @@ impl Session {
             let plan = &mut plans[index];
             verify_after("plan", || plan::verify(kb, plan));
             let mut attempt = Diagnostics::new();
-            match temporal::schedule(kb, interner, &program, plan, None, &mut attempt) {
+            match temporal::schedule(kb, interner, &program, plan, None, settings.epsilon, &mut attempt) {
                 Some(timed) => {
                     let searched = timed.schedule.makespan;
                     let timed = if reassign {
@@ -895,11 +903,13 @@ impl Session {
         }
     }
 
-    /// The temporal passes on one plan: its partial order, STN and schedule, or `None` with
-    /// the reason (a negative cycle, a duration that cannot be used) in the sink.
+    /// The temporal passes on one plan: its partial order, STN and schedule (with the default
+    /// separation, [`crate::ir::stn::EPSILON`]), or `None` with the reason (a negative cycle,
+    /// a duration that cannot be used) in the sink.
     pub fn schedule(&mut self, plan: &Plan) -> Option<Timed> {
         let program = self.program(plan.problem);
-        temporal::schedule(&self.frontend.kb, &self.frontend.interner, &program, plan, None, &mut self.diagnostics)
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        temporal::schedule(kb, interner, &program, plan, None, crate::ir::stn::EPSILON, &mut self.diagnostics)
     }
 
     /// The `reassign` pass on a scheduled plan: the plan and schedule kept (the given ones

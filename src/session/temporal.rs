@@ -37,6 +37,7 @@ pub(crate) fn schedule(
     program: &crate::engine::Program,
     plan: &crate::ir::plan::Plan,
     arm: Option<ArmOrder<'_>>,
+    epsilon: i64,
     diags: &mut Diagnostics,
 ) -> Option<Timed> {
     use crate::ir::{pop, schedule, stn};
@@ -48,7 +49,7 @@ pub(crate) fn schedule(
     }
     super::verify_after("pop", || pop::verify(kb, &pop));
     let errors_before = diags.error_count();
-    let stn = passes::stn::build(kb, interner, program, &pop, diags);
+    let stn = passes::stn::build(kb, interner, program, &pop, epsilon, diags);
     super::verify_after("stn", || stn::verify(&pop, &stn));
     if diags.error_count() > errors_before {
         return None;
@@ -93,7 +94,8 @@ pub(crate) fn reassign(
                 continue;
             }
             let mut diags = Diagnostics::new();
-            if let Some(scheduled) = schedule(kb, interner, program, &candidate.plan, None, &mut diags)
+            if let Some(scheduled) =
+                schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
                 && scheduled.schedule.makespan < timed.schedule.makespan
             {
                 (plan, timed) = (candidate.plan, scheduled);
@@ -118,11 +120,13 @@ pub struct ReassignedMakespan<'a> {
     pub interner: &'a Interner,
     /// The problem's program (see [`crate::planner::program_for`]).
     pub program: &'a crate::engine::Program,
+    /// The separation of ordered snap actions in the temporal network.
+    pub epsilon: i64,
 }
 
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
-        let timed = schedule(self.kb, self.interner, self.program, plan, None, &mut Diagnostics::new())?;
+        let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
         let (_, timed) = reassign(self.kb, self.interner, self.program, task, plan.clone(), timed);
         Some(timed.schedule.makespan)
     }
