@@ -786,3 +786,19 @@ fn epsilon_separates_an_end_from_the_start_that_depends_on_it() {
         assert_eq!(out.status.code(), Some(2), "--epsilon {bad}: {}", stderr(&out));
     }
 }
+
+#[test]
+fn manual_pages_come_from_the_same_definitions_as_help() {
+    let main = kbc(&["man"]);
+    assert_eq!(main.status.code(), Some(0), "{}", stderr(&main));
+    assert!(stdout(&main).contains(".TH kbc 1"), "{}", stdout(&main));
+    let plan = kbc(&["man", "plan"]);
+    assert_eq!(plan.status.code(), Some(0), "{}", stderr(&plan));
+    let page = stdout(&plan);
+    assert!(page.contains(".TH kbc-plan 1") && page.contains("\\fBkbc plan\\fR"), "{page}");
+    // Every option `kbc plan --help` lists is on the page (roff escapes the dashes).
+    for option in ["--epsilon", "--level", "--schedule", "--max-states"] {
+        assert!(page.contains(&option.replace('-', "\\-")), "{option} missing from the page");
+    }
+    assert_eq!(kbc(&["man", "nope"]).status.code(), Some(2), "an unknown subcommand is a usage error");
+}

@@ -102,6 +102,12 @@ enum Command {
         #[arg(value_enum)]
         shell: clap_complete::Shell,
     },
+    /// Print a manual page in roff, e.g. `kbc man plan | man -l -`: kbc's own, or a
+    /// subcommand's.
+    Man {
+        /// The subcommand (`plan`, `export`, ...); kbc's own page without one.
+        subcommand: Option<String>,
+    },
     /// Print the explanation of a diagnostic code, e.g. `kbc explain E0102`.
     Explain {
         /// The code, such as E0102 or W0001.
@@ -213,8 +219,33 @@ fn run() -> ExitCode {
             clap_complete::generate(shell, &mut Cli::command(), "kbc", &mut std::io::stdout());
             ExitCode::SUCCESS
         }
+        Command::Man { subcommand } => man(subcommand.as_deref()),
         Command::Lsp { stdio: _ } => crate::lsp::run_stdio(),
     }
+}
+
+/// `kbc man [SUBCOMMAND]`: the manual page, in roff, on stdout.
+fn man(subcommand: Option<&str>) -> ExitCode {
+    use clap::CommandFactory;
+    let kbc = Cli::command();
+    let page = match subcommand {
+        None => kbc,
+        Some(name) => match kbc.find_subcommand(name) {
+            Some(command) => command.clone().display_name(format!("kbc-{name}")).bin_name(format!("kbc {name}")),
+            None => {
+                let names: Vec<&str> = kbc.get_subcommands().map(|c| c.get_name()).collect();
+                eprintln!("error: no subcommand `{name}`; kbc has {}", names.join(", "));
+                return ExitCode::from(2);
+            }
+        },
+    };
+    let mut out = Vec::new();
+    if let Err(error) = clap_mangen::Man::new(page).render(&mut out) {
+        eprintln!("error: cannot write the manual page: {error}");
+        return ExitCode::from(1);
+    }
+    let _ = std::io::stdout().lock().write_all(&out);
+    ExitCode::SUCCESS
 }
 
 pub(crate) use crate::source::fs::{io_reason, read_text, unreadable};
