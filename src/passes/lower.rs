@@ -98,21 +98,14 @@ struct StateFile {
     scope: Scope,
 }
 
-/// A file's `ll_init/1` and `ll_goal/1`, which share one variable scope.
-struct ArmStateFile {
-    file: FileId,
-    init: Option<(Vec<Literal>, Span)>,
-    goal: Option<(Vec<Literal>, Span)>,
-    scope: Scope,
-}
-
 struct Lowerer<'a> {
     interner: &'a mut Interner,
     diags: &'a mut Diagnostics,
     db: &'a SourceDb,
     kb: Kb,
     state_files: Vec<StateFile>,
-    arm_state_files: Vec<ArmStateFile>,
+    /// The same for `ll_init/1` and `ll_goal/1`.
+    arm_state_files: Vec<StateFile>,
 }
 
 impl Lowerer<'_> {
@@ -842,29 +835,47 @@ impl Lowerer<'_> {
         self.kb.problems.push(problem);
     }
 
+    /// `init_state`/`goal_state` (and `hl_init`/`hl_goal`, read as them): one pair per file.
     fn state_fact(&mut self, name: Symbol, term: &ast::Term, span: Span) {
+        let what = if name == sym::INIT_STATE { "the initial state" } else { "the goal state" };
+        let help = "put one problem per file, or name them: `test1 :- go(Init, Goal).`";
+        self.record_state(false, name == sym::INIT_STATE, name, term, span, (what, help));
+    }
+
+    /// `ll_init([...])` or `ll_goal([...])`: one pair per file.
+    fn arm_state_fact(&mut self, name: Symbol, term: &ast::Term, span: Span) {
+        let what = if name == sym::LL_INIT { "the arm-level initial state" } else { "the arm-level goal" };
+        self.record_state(true, name == sym::LL_INIT, name, term, span, (what, "give one arm-level state per file"));
+    }
+
+    /// Records one list of a file's pair of states (the arm level's with `arm`), whose two
+    /// lists share one variable scope; a list given twice in a file is E0215. `text` is what
+    /// the list is, for messages, and the help for the repeat.
+    fn record_state(&mut self, arm: bool, init: bool, name: Symbol, term: &ast::Term, span: Span, text: (&str, &str)) {
+        let (what, help) = text;
         let file = span.file;
-        let index = match self.state_files.iter().position(|s| s.file == file) {
+        let files = if arm { &mut self.arm_state_files } else { &mut self.state_files };
+        let index = match files.iter().position(|s| s.file == file) {
             Some(i) => i,
             None => {
-                self.state_files.push(StateFile { file, init: None, goal: None, scope: Scope::default() });
-                self.state_files.len() - 1
+                files.push(StateFile { file, init: None, goal: None, scope: Scope::default() });
+                files.len() - 1
             }
         };
-        let what = if name == sym::INIT_STATE { "the initial state" } else { "the goal state" };
-        let mut scope = std::mem::take(&mut self.state_files[index].scope);
+        let mut scope = std::mem::take(&mut files[index].scope);
         let list = self.state_list(&term.args()[0], &mut scope, what);
-        let entry = &mut self.state_files[index];
+        let files = if arm { &mut self.arm_state_files } else { &mut self.state_files };
+        let entry = &mut files[index];
         entry.scope = scope;
-        let slot = if name == sym::INIT_STATE { &mut entry.init } else { &mut entry.goal };
+        let slot = if init { &mut entry.init } else { &mut entry.goal };
         if let Some((_, first)) = slot {
             let first = *first;
-            let text = self.interner.resolve(name).to_string();
+            let shown = self.interner.resolve(name).to_string();
             self.diags.push(
-                Diagnostic::error(codes::BAD_PROBLEM, format!("`{text}` is given more than once in this file"))
+                Diagnostic::error(codes::BAD_PROBLEM, format!("`{shown}` is given more than once in this file"))
                     .primary(term.name_span(), "given again here")
                     .secondary(first, "first given here")
-                    .with_help("put one problem per file, or name them: `test1 :- go(Init, Goal).`"),
+                    .with_help(help.to_string()),
             );
             return;
         }
@@ -946,38 +957,6 @@ impl Lowerer<'_> {
                 (None, Some((_, span))) => self.incomplete_problem(span, "init_state"),
                 (None, None) => {}
             }
-        }
-    }
-
-    /// `ll_init([...])` or `ll_goal([...])`: one per file, sharing a scope.
-    fn arm_state_fact(&mut self, name: Symbol, term: &ast::Term, span: Span) {
-        let file = span.file;
-        let index = match self.arm_state_files.iter().position(|s| s.file == file) {
-            Some(i) => i,
-            None => {
-                self.arm_state_files.push(ArmStateFile { file, init: None, goal: None, scope: Scope::default() });
-                self.arm_state_files.len() - 1
-            }
-        };
-        let what = if name == sym::LL_INIT { "the arm-level initial state" } else { "the arm-level goal" };
-        let mut scope = std::mem::take(&mut self.arm_state_files[index].scope);
-        let list = self.state_list(&term.args()[0], &mut scope, what);
-        let entry = &mut self.arm_state_files[index];
-        entry.scope = scope;
-        let slot = if name == sym::LL_INIT { &mut entry.init } else { &mut entry.goal };
-        if let Some((_, first)) = slot {
-            let first = *first;
-            let text = self.interner.resolve(name).to_string();
-            self.diags.push(
-                Diagnostic::error(codes::BAD_PROBLEM, format!("`{text}` is given more than once in this file"))
-                    .primary(term.name_span(), "given again here")
-                    .secondary(first, "first given here")
-                    .with_help("give one arm-level state per file"),
-            );
-            return;
-        }
-        if let Some(list) = list {
-            *slot = Some((list, term.name_span()));
         }
     }
 
