@@ -574,15 +574,7 @@ impl Replayer<'_, '_> {
                     cells[v] = Some(self.machine.put_term(value, &mut []));
                 }
             }
-            let mut goal = Cell::Atom(sym::TRUE);
-            for g in action.on_kb.iter().rev() {
-                let cell = self.machine.put_goal(g, &mut cells);
-                goal = if goal == Cell::Atom(sym::TRUE) {
-                    cell
-                } else {
-                    self.machine.new_compound(sym::COMMA, &[cell, goal])
-                };
-            }
+            let goal = self.machine.put_conjunction(&action.on_kb, &mut cells);
             let outcome = self.machine.solve(goal, |m| {
                 let mut solution = bindings.clone();
                 for (v, cell) in cells.iter().enumerate() {

@@ -420,6 +420,21 @@ impl<'p> Machine<'p> {
         }
     }
 
+    /// Places the conjunction of `goals` on the heap (`true` for none), as
+    /// [`Machine::put_goal`] places one: how an action's OnKB list is asked.
+    pub fn put_conjunction(&mut self, goals: &[Goal], vars: &mut [Option<Cell>]) -> Cell {
+        let mut conjunction = Cell::Atom(sym::TRUE);
+        for goal in goals.iter().rev() {
+            let cell = self.put_goal(goal, vars);
+            conjunction = if conjunction == Cell::Atom(sym::TRUE) {
+                cell
+            } else {
+                self.new_compound(sym::COMMA, &[cell, conjunction])
+            };
+        }
+        conjunction
+    }
+
     /// Places a goal on the heap, as [`Machine::put_term`] does for terms.
     pub fn put_goal(&mut self, goal: &Goal, vars: &mut [Option<Cell>]) -> Cell {
         match goal {

@@ -269,8 +269,7 @@ impl Refiner<'_> {
     fn apply(&mut self, node: &Node) -> Vec<Node> {
         let (step, position) = node.pending[0].clone();
         let (origin, mapping) = node.origin.expect("pending steps come from a mapping");
-        let mut children = Vec::new();
-        let mut miss: Option<Miss> = None;
+        let mut found = Found::default();
         let callable = step.callable();
         for (index, action) in self.kb.actions.iter().enumerate() {
             if action.level != Level::Low || Some(action.name.term.callable().unwrap_or((sym::ANON, 0))) != callable {
@@ -281,40 +280,41 @@ impl Refiner<'_> {
             if !unify_in(&rename(&action.name.term, base), &step, &mut s) {
                 continue;
             }
-            let at = Attempt { node, action, index, base, origin };
             // An end closes a running start whose arguments unify with its own.
             let closes: Vec<(Subst, Option<usize>)> = if action.snap == Snap::End {
                 let key = running_key(action, &substitute(&rename(&action.name.term, base), &s));
-                let found: Vec<(Subst, Option<usize>)> = (0..node.running.len())
+                let closes: Vec<(Subst, Option<usize>)> = (0..node.running.len())
                     .filter_map(|r| {
                         let mut s = s.clone();
                         unify_in(&key, &node.running[r], &mut s).then_some((s, Some(r)))
                     })
                     .collect();
-                if found.is_empty() {
+                if closes.is_empty() {
                     let shown = self.show(&substitute(&key, &s));
-                    miss.get_or_insert(Miss {
+                    found.miss.get_or_insert(Miss {
                         action: index,
                         reason: format!("it ends `{shown}`, which is not running"),
                         span: action.name.span,
                     });
                 }
-                found
+                closes
             } else {
                 vec![(s, None)]
             };
-            let before = children.len();
+            let before = found.children.len();
             for (s, closed) in closes {
-                self.valid(&at, 0, &s, closed, &mut children, &mut miss);
+                let at = Attempt { node, action, index, base, origin, closed };
+                self.valid(&at, 0, &s, &mut found);
             }
-            if children.len() == before {
-                miss.get_or_insert(Miss {
+            if found.children.len() == before {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "its conditions do not hold".into(),
                     span: action.name.span,
                 });
             }
         }
+        let Found { children, miss } = found;
         if children.is_empty() {
             self.record(node.applied * 2 + 1, Some(origin), |r| r.step_failure(node, &step, position, mapping, miss));
         }
@@ -361,17 +361,9 @@ impl Refiner<'_> {
     }
 
     /// Matches the Valid literals from `k` on, then goes on to OnKB.
-    fn valid(
-        &mut self,
-        at: &Attempt<'_>,
-        k: usize,
-        s: &Subst,
-        closed: Option<usize>,
-        children: &mut Vec<Node>,
-        miss: &mut Option<Miss>,
-    ) {
+    fn valid(&mut self, at: &Attempt<'_>, k: usize, s: &Subst, found: &mut Found) {
         let Some(literal) = at.action.valid.get(k) else {
-            return self.on_kb(at, s, closed, children, miss);
+            return self.on_kb(at, s, found);
         };
         let pattern = rename(&literal.term, at.base);
         let mut matched = false;
@@ -379,12 +371,12 @@ impl Refiner<'_> {
             let mut attempt = s.clone();
             if unify_in(&pattern, fact, &mut attempt) {
                 matched = true;
-                self.valid(at, k + 1, &attempt, closed, children, miss);
+                self.valid(at, k + 1, &attempt, found);
             }
         }
         if !matched {
             let shown = self.show(&substitute(&pattern, s));
-            miss.get_or_insert(Miss {
+            found.miss.get_or_insert(Miss {
                 action: at.index,
                 reason: format!("its Valid condition `{shown}` unifies with no fact of the arm-level state"),
                 span: literal.span,
@@ -393,17 +385,10 @@ impl Refiner<'_> {
     }
 
     /// Proves the OnKB goals; each solution goes on to the Invalid lists and the effects.
-    fn on_kb(
-        &mut self,
-        at: &Attempt<'_>,
-        s: &Subst,
-        closed: Option<usize>,
-        children: &mut Vec<Node>,
-        miss: &mut Option<Miss>,
-    ) {
+    fn on_kb(&mut self, at: &Attempt<'_>, s: &Subst, found: &mut Found) {
         let action = at.action;
         if action.on_kb.is_empty() {
-            return self.finish_step(at, s, closed, children, miss);
+            return self.finish_step(at, s, found);
         }
         // Each schema variable's value, with the variables inside numbered compactly.
         let mut outer: Vec<VarId> = Vec::new();
@@ -414,12 +399,7 @@ impl Refiner<'_> {
         let mut compact_cells: Vec<Option<Cell>> = vec![None; outer.len()];
         let mut cells: Vec<Option<Cell>> =
             values.iter().map(|value| Some(self.machine.put_term(value, &mut compact_cells))).collect();
-        let mut goal = Cell::Atom(sym::TRUE);
-        for g in action.on_kb.iter().rev() {
-            let cell = self.machine.put_goal(g, &mut cells);
-            goal =
-                if goal == Cell::Atom(sym::TRUE) { cell } else { self.machine.new_compound(sym::COMMA, &[cell, goal]) };
-        }
+        let goal = self.machine.put_conjunction(&action.on_kb, &mut cells);
         let mut solutions: Vec<Subst> = Vec::new();
         let outcome = self.machine.solve(goal, |m| {
             let mut solution = s.clone();
@@ -435,7 +415,7 @@ impl Refiner<'_> {
             Next::More
         });
         if let Err(error) = outcome {
-            miss.get_or_insert(Miss {
+            found.miss.get_or_insert(Miss {
                 action: at.index,
                 reason: format!("proving its OnKB goals failed: {}", error.message(self.interner)),
                 span: action.slots[4],
@@ -443,32 +423,25 @@ impl Refiner<'_> {
             return;
         }
         if solutions.is_empty() {
-            miss.get_or_insert(Miss {
+            found.miss.get_or_insert(Miss {
                 action: at.index,
                 reason: "its OnKB goals are not provable".into(),
                 span: action.slots[4],
             });
         }
         for solution in solutions {
-            self.finish_step(at, &solution, closed, children, miss);
+            self.finish_step(at, &solution, found);
         }
     }
 
     /// Checks Invalid and InvalidAtEnd, applies the effects, and makes the child.
-    fn finish_step(
-        &mut self,
-        at: &Attempt<'_>,
-        s: &Subst,
-        closed: Option<usize>,
-        children: &mut Vec<Node>,
-        miss: &mut Option<Miss>,
-    ) {
-        let Attempt { node, action, index, base, origin, .. } = *at;
+    fn finish_step(&mut self, at: &Attempt<'_>, s: &Subst, found: &mut Found) {
+        let Attempt { node, action, index, base, origin, closed } = *at;
         for literal in &action.invalid {
             let pattern = rename(&literal.term, base);
             if let Some(fact) = node.state.iter().find(|f| unifies(&pattern, f, s)) {
                 let shown = self.show(&substitute(fact, s));
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: format!("the arm-level state has `{shown}`, which its Invalid list forbids"),
                     span: literal.span,
@@ -479,7 +452,7 @@ impl Refiner<'_> {
         for literal in &action.invalid_at_end {
             let pattern = rename(&literal.term, base);
             if self.arm.goal.iter().any(|g| unifies(&pattern, &g.term, s)) {
-                miss.get_or_insert(Miss {
+                found.miss.get_or_insert(Miss {
                     action: index,
                     reason: "its InvalidAtEnd list meets an arm-level goal literal".into(),
                     span: literal.span,
@@ -490,7 +463,7 @@ impl Refiner<'_> {
         let name = substitute(&rename(&action.name.term, base), s);
         if !name.is_ground() {
             let shown = self.show(&name);
-            miss.get_or_insert(Miss {
+            found.miss.get_or_insert(Miss {
                 action: index,
                 reason: format!("its name is `{shown}` after its conditions: a variable of it has no value"),
                 span: action.name.span,
@@ -516,7 +489,7 @@ impl Refiner<'_> {
                 let key = running_key(action, &name);
                 if running.contains(&key) {
                     let shown = self.show(&key);
-                    miss.get_or_insert(Miss {
+                    found.miss.get_or_insert(Miss {
                         action: index,
                         reason: format!("it starts `{shown}`, which is already running"),
                         span: action.name.span,
@@ -541,7 +514,7 @@ impl Refiner<'_> {
         let outer: Vec<(VarId, Term)> =
             s.iter().filter(|(v, _)| v.0 < base).map(|(v, t)| (*v, substitute(t, s))).collect();
         let taken = Taken { step: Step { action: index, name, bindings }, origin, outer, parent: node.path.clone() };
-        children.push(Node {
+        found.children.push(Node {
             next_high: node.next_high,
             origin: node.origin,
             pending: node.pending[1..].iter().map(|(t, k)| (substitute(t, s), *k)).collect(),
@@ -636,6 +609,16 @@ struct Attempt<'a> {
     index: usize,
     base: u32,
     origin: usize,
+    /// For an end step, the running arm-level start it closes (its index in `node.running`).
+    closed: Option<usize>,
+}
+
+/// What applying one step found: the children, and the first reason an `ll_action` clause did
+/// not apply.
+#[derive(Default)]
+struct Found {
+    children: Vec<Node>,
+    miss: Option<Miss>,
 }
 
 /// True if every goal literal unifies with a fact, sharing variables (first way found).

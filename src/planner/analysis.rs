@@ -419,7 +419,6 @@ impl Explainer<'_, '_> {
     /// under `bindings`; `None` if they all have solutions (or the engine fails).
     fn failing_on_kb_goal(&mut self, task: &Task, s: usize, bindings: &[Option<ConstId>]) -> Option<hir::Literal> {
         use crate::engine::{Cell, Next};
-        use crate::intern::sym;
         let schema = &task.schemas[s];
         for k in 1..=schema.on_kb.len() {
             self.machine.reset();
@@ -429,15 +428,7 @@ impl Explainer<'_, '_> {
                     cells[v] = Some(const_to_cell(&mut self.machine, &task.consts, *value));
                 }
             }
-            let mut goal = Cell::Atom(sym::TRUE);
-            for g in schema.on_kb[..k].iter().rev() {
-                let cell = self.machine.put_goal(g, &mut cells);
-                goal = if goal == Cell::Atom(sym::TRUE) {
-                    cell
-                } else {
-                    self.machine.new_compound(sym::COMMA, &[cell, goal])
-                };
-            }
+            let goal = self.machine.put_conjunction(&schema.on_kb[..k], &mut cells);
             let mut found = false;
             let solved = self.machine.solve(goal, |_| {
                 found = true;

@@ -218,11 +218,7 @@ impl OnKbCache {
                 cells[v as usize] = Some(const_to_cell(machine, consts, value));
             }
         }
-        let mut goal = Cell::Atom(sym::TRUE);
-        for g in schema.on_kb.iter().rev() {
-            let cell = machine.put_goal(g, &mut cells);
-            goal = if goal == Cell::Atom(sym::TRUE) { cell } else { machine.new_compound(sym::COMMA, &[cell, goal]) };
-        }
+        let goal = machine.put_conjunction(&schema.on_kb, &mut cells);
         let unbound: Vec<Cell> = vars
             .iter()
             .filter(|&&v| bindings[v as usize].is_none())
