@@ -426,29 +426,38 @@ impl Kb {
         self.actions.iter().filter(|a| a.level == Level::High)
     }
 
-    /// The units of the renewable resources (`resources/1`) for a problem with initial facts
-    /// `init`: the values at the template's variable positions of each static fact or initial
-    /// fact the template matches (`a1` for `agent(a1)` under `resources(agent(_))`), in order
-    /// of first appearance.
-    pub fn resource_units(&self, init: &[Literal]) -> Vec<Term> {
-        let facts = self.clauses.iter().filter(|c| c.body.is_none()).map(|c| &c.head).chain(init);
+    /// The units of the renewable resources (`resources/1`) among `facts`, in the order they
+    /// appear there: the value at the template's variable position (`a1` of `available(a1)`
+    /// under `resources(available(_))`).
+    pub fn resource_units<'a>(&self, facts: impl IntoIterator<Item = &'a Literal>) -> Vec<Term> {
         let mut units: Vec<Term> = Vec::new();
         for fact in facts {
             for resource in &self.resources {
-                let template = &resource.template.term;
-                if template.callable() != fact.term.callable()
-                    || crate::ir::unify::match_ground(template, &fact.term).is_none()
-                {
+                let template = &resource.template;
+                if template.name() != fact.name() || template.arity() != fact.arity() {
                     continue;
                 }
-                for (slot, value) in template.args().iter().zip(fact.term.args()) {
-                    if matches!(slot, Term::Var(_)) && value.is_ground() && !units.contains(value) {
-                        units.push(value.clone());
+                let mut unit = None;
+                let mut matches = true;
+                for (slot, value) in template.term.args().iter().zip(fact.term.args()) {
+                    match slot {
+                        Term::Var(_) => unit = unit.or(Some(value.clone())),
+                        constant => matches &= constant == value,
                     }
+                }
+                if let (true, Some(unit)) = (matches, unit)
+                    && !units.contains(&unit)
+                {
+                    units.push(unit);
                 }
             }
         }
         units
+    }
+
+    /// The KB's static facts (clauses without a body).
+    pub fn static_facts(&self) -> impl Iterator<Item = &Literal> {
+        self.clauses.iter().filter(|c| c.body.is_none()).map(|c| &c.head)
     }
 
     /// The predicates of the arm level: those an `ll_action` checks, forbids, adds or

@@ -40,34 +40,6 @@ fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-/// The units of the declared resources in the problem's initial state, in the order they
-/// appear there: the value at the template's variable position (`a1` of `available(a1)`).
-pub fn resource_units(kb: &Kb, problem: usize) -> Vec<Term> {
-    let mut units: Vec<Term> = Vec::new();
-    for fact in &kb.problems[problem].init {
-        for resource in &kb.resources {
-            let template = &resource.template;
-            if template.name() != fact.name() || template.arity() != fact.arity() {
-                continue;
-            }
-            let mut unit = None;
-            let mut matches = true;
-            for (slot, value) in template.term.args().iter().zip(fact.term.args()) {
-                match slot {
-                    Term::Var(_) => unit = unit.or(Some(value.clone())),
-                    constant => matches &= constant == value,
-                }
-            }
-            if let (true, Some(unit)) = (matches, unit)
-                && !units.contains(&unit)
-            {
-                units.push(unit);
-            }
-        }
-    }
-    units
-}
-
 /// A bar of a chart: a lane, a label (the action), a colour key, its interval (program time
 /// units) and how it ended.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -100,7 +72,7 @@ pub enum Ending {
 /// The SVG chart of `schedule`.
 pub fn svg(interner: &Interner, kb: &Kb, pop: &Pop, schedule: &Schedule) -> String {
     let no_vars = VarTable::default();
-    let units = resource_units(kb, pop.problem);
+    let units = kb.resource_units(&kb.problems[pop.problem].init);
     let actions = schedule::timed_actions(kb, pop, schedule);
     let lane_of = |name: &Term| -> usize {
         name.args().iter().find_map(|a| units.iter().position(|u| u == a)).unwrap_or(units.len())

@@ -735,7 +735,8 @@ impl Session {
             plan.problem = self.add_problem(instantiated);
         }
         // The arms (units of the resources) of the high-level problem do one step at a time.
-        let units = self.frontend.kb.resource_units(&self.frontend.kb.problems[high.problem].init);
+        let kb = &self.frontend.kb;
+        let units = kb.resource_units(kb.static_facts().chain(&kb.problems[high.problem].init));
         let program = self.program(plan.problem);
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
         let order = temporal::ArmOrder { origin: &origin, high: &high.timed.pop, units: &units };
