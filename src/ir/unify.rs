@@ -12,7 +12,7 @@ use super::hir::{Term, VarId};
 /// True if `a` and `b` unify, treating their variables as distinct even when ids coincide.
 pub fn unifiable(a: &Term, b: &Term) -> bool {
     let offset = max_var(a).map_or(0, |v| v.0 + 1);
-    let b = shift(b, offset);
+    let b = b.shift_vars(offset);
     let mut bindings = FxHashMap::default();
     unify(a, &b, &mut bindings)
 }
@@ -45,14 +45,6 @@ fn max_var(t: &Term) -> Option<VarId> {
         }
     });
     max
-}
-
-fn shift(t: &Term, offset: u32) -> Term {
-    match t {
-        Term::Var(v) => Term::Var(VarId(v.0 + offset)),
-        Term::Compound(f, args) => Term::Compound(*f, args.iter().map(|a| shift(a, offset)).collect()),
-        other => other.clone(),
-    }
 }
 
 fn resolve<'a>(mut t: &'a Term, bindings: &'a FxHashMap<VarId, Term>) -> &'a Term {

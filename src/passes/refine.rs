@@ -121,11 +121,6 @@ struct Refiner<'a> {
     stuck: Option<Stuck>,
 }
 
-/// `term` with its variables numbered from `base`.
-fn rename(term: &Term, base: u32) -> Term {
-    term.shift_vars(base)
-}
-
 /// True if `a` and `b` unify under `s`, without keeping the bindings.
 fn unifies(a: &Term, b: &Term, s: &Subst) -> bool {
     let mut copy = s.clone();
@@ -240,7 +235,7 @@ impl Refiner<'_> {
         let name = &self.high.steps[index].name;
         let mut children = Vec::new();
         for (m, mapping) in self.kb.mappings.iter().enumerate() {
-            let head = rename(&mapping.high.term, node.fresh);
+            let head = mapping.high.term.shift_vars(node.fresh);
             let mut s = Subst::default();
             if !unify_in(&head, name, &mut s) {
                 continue;
@@ -249,7 +244,7 @@ impl Refiner<'_> {
                 .steps
                 .iter()
                 .enumerate()
-                .map(|(k, l)| (substitute(&rename(&l.term, node.fresh), &s), k))
+                .map(|(k, l)| (substitute(&l.term.shift_vars(node.fresh), &s), k))
                 .collect();
             children.push(Node {
                 next_high: index + 1,
@@ -277,12 +272,12 @@ impl Refiner<'_> {
             }
             let base = node.fresh;
             let mut s = Subst::default();
-            if !unify_in(&rename(&action.name.term, base), &step, &mut s) {
+            if !unify_in(&action.name.term.shift_vars(base), &step, &mut s) {
                 continue;
             }
             // An end closes a running start whose arguments unify with its own.
             let closes: Vec<(Subst, Option<usize>)> = if action.snap == Snap::End {
-                let key = running_key(action, &substitute(&rename(&action.name.term, base), &s));
+                let key = running_key(action, &substitute(&action.name.term.shift_vars(base), &s));
                 let closes: Vec<(Subst, Option<usize>)> = (0..node.running.len())
                     .filter_map(|r| {
                         let mut s = s.clone();
@@ -365,7 +360,7 @@ impl Refiner<'_> {
         let Some(literal) = at.action.valid.get(k) else {
             return self.on_kb(at, s, found);
         };
-        let pattern = rename(&literal.term, at.base);
+        let pattern = literal.term.shift_vars(at.base);
         let mut matched = false;
         for fact in &at.node.state {
             let mut attempt = s.clone();
@@ -438,7 +433,7 @@ impl Refiner<'_> {
     fn finish_step(&mut self, at: &Attempt<'_>, s: &Subst, found: &mut Found) {
         let Attempt { node, action, index, base, origin, closed } = *at;
         for literal in &action.invalid {
-            let pattern = rename(&literal.term, base);
+            let pattern = literal.term.shift_vars(base);
             if let Some(fact) = node.state.iter().find(|f| unifies(&pattern, f, s)) {
                 let shown = self.show(&substitute(fact, s));
                 found.miss.get_or_insert(Miss {
@@ -450,7 +445,7 @@ impl Refiner<'_> {
             }
         }
         for literal in &action.invalid_at_end {
-            let pattern = rename(&literal.term, base);
+            let pattern = literal.term.shift_vars(base);
             if self.arm.goal.iter().any(|g| unifies(&pattern, &g.term, s)) {
                 found.miss.get_or_insert(Miss {
                     action: index,
@@ -460,7 +455,7 @@ impl Refiner<'_> {
                 return;
             }
         }
-        let name = substitute(&rename(&action.name.term, base), s);
+        let name = substitute(&action.name.term.shift_vars(base), s);
         if !name.is_ground() {
             let shown = self.show(&name);
             found.miss.get_or_insert(Miss {
@@ -472,7 +467,7 @@ impl Refiner<'_> {
         }
         let mut state: Vec<Term> = node.state.iter().map(|f| substitute(f, s)).collect();
         for effect in &action.effects {
-            let fact = substitute(&rename(&effect.literal.term, base), s);
+            let fact = substitute(&effect.literal.term.shift_vars(base), s);
             match effect.kind {
                 EffectKind::Add => {
                     if !state.contains(&fact) {
