@@ -37,6 +37,8 @@ pub struct TimedAction {
     pub time: i64,
     /// For a durative action, end minus start.
     pub duration: Option<i64>,
+    /// For a durative action, the step that ends it.
+    pub end: Option<usize>,
 }
 
 /// The actions of a scheduled plan, by start time (then plan order).
@@ -60,7 +62,7 @@ pub fn timed_actions(kb: &Kb, pop: &Pop, schedule: &Schedule) -> Vec<TimedAction
                 _ => step.name.clone(),
             };
             let duration = ends[i].map(|e| schedule.earliest[e] - schedule.earliest[i]);
-            TimedAction { step: i, name, time: schedule.earliest[i], duration }
+            TimedAction { step: i, name, time: schedule.earliest[i], duration, end: ends[i] }
         })
         .collect();
     actions.sort_by_key(|a| (a.time, a.step));

@@ -1317,16 +1317,10 @@ pub fn plan_to_pddl(
         .map(|o| o.iter().filter_map(|(name, text)| Some((text.as_str()?, name.as_str()))).collect())
         .unwrap_or_default();
     let actions = names["actions"].as_object().ok_or("names.json has no actions")?;
-    let mut ends = vec![None; pop.steps.len()];
-    for (i, step) in pop.steps.iter().enumerate() {
-        if let Some(start) = step.start {
-            ends[start] = Some(i);
-        }
-    }
     let mut out = String::new();
     for timed in crate::ir::schedule::timed_actions(kb, pop, schedule) {
         let start = &plan.steps[timed.step];
-        let end = ends[timed.step].map(|e| &plan.steps[e]);
+        let end = timed.end.map(|e| &plan.steps[e]);
         let shown = hir::term_to_string(interner, &timed.name, &no_vars);
         let (name, entry) = actions
             .iter()
