@@ -715,12 +715,7 @@ impl Replayer<'_, '_> {
 
 /// `base(args)` of a durative action's start or end under `bindings`.
 fn start_key(interner: &Interner, action: &Action, bindings: &Bindings) -> String {
-    let name = resolve(&action.name.term, bindings);
-    let running = match name {
-        Term::Compound(_, args) => Term::Compound(action.base, args),
-        _ => Term::Atom(action.base),
-    };
-    key(interner, &running)
+    key(interner, &action.instance(&resolve(&action.name.term, bindings)))
 }
 
 /// The most states a replay follows at once: a plan file names each step but not the values

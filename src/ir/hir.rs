@@ -278,6 +278,17 @@ pub struct Action {
     pub slots: [Span; 6],
 }
 
+impl Action {
+    /// The durative action `base(args)` that `name`, a name of this start or end, stands
+    /// for: the snap suffix dropped (`grip(a1, b1)` for `grip_start(a1, b1)`).
+    pub fn instance(&self, name: &Term) -> Term {
+        match name {
+            Term::Compound(_, args) => Term::Compound(self.base, args.clone()),
+            _ => Term::Atom(self.base),
+        }
+    }
+}
+
 /// `mapping(HighLevelStart, [ArmLevel, ...])`: refines a high-level start into arm-level steps.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mapping {

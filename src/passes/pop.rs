@@ -158,10 +158,7 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
     let mut steps: Vec<PopStep> = Vec::with_capacity(plan.steps.len());
     for (i, step) in plan.steps.iter().enumerate() {
         let action = &kb.actions[step.action];
-        let running = match &step.name {
-            Term::Compound(_, args) => Term::Compound(action.base, args.clone()),
-            _ => Term::Atom(action.base),
-        };
+        let running = action.instance(&step.name);
         let start = match action.snap {
             Snap::Start => {
                 open.entry(builder.key(&running)).or_default().push(i);

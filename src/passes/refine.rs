@@ -127,14 +127,6 @@ fn unifies(a: &Term, b: &Term, s: &Subst) -> bool {
     unify_in(a, b, &mut copy)
 }
 
-/// `base(args)` of a durative action named `name` (its snap suffix replaced by its base).
-fn running_key(action: &Action, name: &Term) -> Term {
-    match name {
-        Term::Compound(_, args) => Term::Compound(action.base, args.clone()),
-        _ => Term::Atom(action.base),
-    }
-}
-
 /// Refines `high`, a valid plan of a high-level problem, into a plan of `arm_problem`, the
 /// arm-level problem derived from it ([`Kb::arm_problem`]), proving OnKB goals against
 /// `program`.
@@ -277,7 +269,7 @@ impl Refiner<'_> {
             }
             // An end closes a running start whose arguments unify with its own.
             let closes: Vec<(Subst, Option<usize>)> = if action.snap == Snap::End {
-                let key = running_key(action, &substitute(&action.name.term.shift_vars(base), &s));
+                let key = action.instance(&substitute(&action.name.term.shift_vars(base), &s));
                 let closes: Vec<(Subst, Option<usize>)> = (0..node.running.len())
                     .filter_map(|r| {
                         let mut s = s.clone();
@@ -481,7 +473,7 @@ impl Refiner<'_> {
         let mut running: Vec<Term> = node.running.iter().map(|r| substitute(r, s)).collect();
         match action.snap {
             Snap::Start => {
-                let key = running_key(action, &name);
+                let key = action.instance(&name);
                 if running.contains(&key) {
                     let shown = self.show(&key);
                     found.miss.get_or_insert(Miss {

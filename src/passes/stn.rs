@@ -18,11 +18,7 @@ use crate::ir::unify::unifiable;
 
 /// The durative action `base(args)` a start or end step stands for.
 pub fn running_term(kb: &Kb, step: &PopStep) -> Term {
-    let base = kb.actions[step.action].base;
-    match &step.name {
-        Term::Compound(_, args) => Term::Compound(base, args.clone()),
-        _ => Term::Atom(base),
-    }
+    kb.actions[step.action].instance(&step.name)
 }
 
 /// The default bounds: at least [`DEFAULT_DURATION`], no maximum.
