@@ -62,8 +62,6 @@ pub struct Failed {
     pub diagnostic: Box<Diagnostic>,
     /// True when the budget ran out before every alternative was tried.
     pub budget: bool,
-    /// The high-level step the deepest alternative could not get past.
-    pub high_step: Option<usize>,
 }
 
 /// An arm-level step applied on the way to the current node.
@@ -100,7 +98,6 @@ struct Node {
 struct Stuck {
     progress: usize,
     diagnostic: Diagnostic,
-    high_step: Option<usize>,
 }
 
 /// Why one `ll_action` clause did not apply.
@@ -176,7 +173,7 @@ pub fn refine(
         stack.extend(children);
     }
     let stuck = refiner.stuck.take().expect("a failed refinement records where it stopped");
-    Err(Failed { diagnostic: Box::new(stuck.diagnostic), budget: false, high_step: stuck.high_step })
+    Err(Failed { diagnostic: Box::new(stuck.diagnostic), budget: false })
 }
 
 impl Refiner<'_> {
@@ -197,10 +194,10 @@ impl Refiner<'_> {
         format!("the arm-level state there is [{}{more}]", shown.join(", "))
     }
 
-    fn record(&mut self, progress: usize, high_step: Option<usize>, diagnostic: impl FnOnce(&Self) -> Diagnostic) {
+    fn record(&mut self, progress: usize, diagnostic: impl FnOnce(&Self) -> Diagnostic) {
         if self.stuck.as_ref().is_none_or(|s| progress > s.progress) {
             let diagnostic = diagnostic(self);
-            self.stuck = Some(Stuck { progress, diagnostic, high_step });
+            self.stuck = Some(Stuck { progress, diagnostic });
         }
     }
 
@@ -217,7 +214,7 @@ impl Refiner<'_> {
         .with_help(
             "raise `--timeout`, or give the mappings' steps fewer alternatives (fewer `ll_action` clauses per name)",
         );
-        Failed { diagnostic: Box::new(diagnostic), budget: true, high_step: None }
+        Failed { diagnostic: Box::new(diagnostic), budget: true }
     }
 
     /// The children of a node between two high-level steps: one per mapping whose head
@@ -303,7 +300,7 @@ impl Refiner<'_> {
         }
         let Found { children, miss } = found;
         if children.is_empty() {
-            self.record(node.applied * 2 + 1, Some(origin), |r| r.step_failure(node, &step, position, mapping, miss));
+            self.record(node.applied * 2 + 1, |r| r.step_failure(node, &step, position, mapping, miss));
         }
         children
     }
@@ -523,7 +520,7 @@ impl Refiner<'_> {
                     a.level == Level::Low && a.snap == Snap::Start && a.base == base && a.name.arity() == arity
                 })
             });
-            self.record(node.applied * 2 + 2, None, |r| {
+            self.record(node.applied * 2 + 2, |r| {
                 let mut diagnostic = Diagnostic::error(
                     codes::REFINEMENT_FAILED,
                     format!("the arm-level plan leaves {} running", shown.join(", ")),
@@ -543,7 +540,7 @@ impl Refiner<'_> {
         if !goal_holds(&self.arm.goal, &node.state, &mut s) {
             let missing =
                 self.arm.goal.iter().find(|g| !node.state.iter().any(|f| unifies(&g.term, f, &Subst::default())));
-            self.record(node.applied * 2 + 2, None, |r| {
+            self.record(node.applied * 2 + 2, |r| {
                 let mut diagnostic =
                     Diagnostic::error(codes::REFINEMENT_FAILED, "the arm-level plan does not reach the arm-level goal");
                 diagnostic = match missing {
