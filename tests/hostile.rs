@@ -177,3 +177,57 @@ fn a_hostile_document_in_the_editor_is_checked_and_edited_away() {
     assert_eq!(client.diagnostics(&uri), Vec::<serde_json::Value>::new());
     assert!(client.shutdown());
 }
+
+/// A grid KB whose relaxation is huge: 30 blocks and 8 agents on 30 × 30 cells, where a move
+/// may go from any cell to any cell (`moving/6` has 8 × 30 × 900 × 900 instances).
+fn huge_grid() -> String {
+    let mut text = String::new();
+    for a in 1..=8 {
+        text += &format!("agent(a{a}).\n");
+    }
+    for b in 1..=30 {
+        text += &format!("block(b{b}).\n");
+    }
+    for x in 1..=30 {
+        for y in 1..=30 {
+            text += &format!("pos({x}, {y}).\n");
+        }
+    }
+    text += "resources(agent(_)).\n\
+        action(move_start(A, B, X1, Y1, X2, Y2), [free(A), at(B, X1, Y1)],\n\
+        \x20   [at(_, X2, Y2), moving(_, _, _, _, X2, Y2)], [], [agent(A), block(B), pos(X2, Y2)],\n\
+        \x20   [del(free(A)), del(at(B, X1, Y1)), add(moving(A, B, X1, Y1, X2, Y2))]).\n\
+        action(move_end(A, B, X1, Y1, X2, Y2), [moving(A, B, X1, Y1, _, _)], [], [], [],\n\
+        \x20   [del(moving(A, B, X1, Y1, X2, Y2)), add(at(B, X2, Y2)), add(free(A))]).\n";
+    let init: Vec<String> =
+        (1..=8).map(|a| format!("free(a{a})")).chain((1..=30).map(|b| format!("at(b{b}, {b}, 1)"))).collect();
+    let goal: Vec<String> = (1..=30).map(|b| format!("at(b{b}, {}, 2)", 31 - b)).collect();
+    text + &format!("big :- go([{}], [{}]).\n", init.join(", "), goal.join(", "))
+}
+
+/// The megabytes after "process peak " in a diagnostic.
+fn process_peak_mb(stderr: &str) -> Option<f64> {
+    let rest = &stderr[stderr.find("process peak ")? + "process peak ".len()..];
+    rest.split(' ').next()?.parse().ok()
+}
+
+/// `--max-memory` and `--timeout` bound the heuristic's set-up (grounding, the relaxation of
+/// the initial state), not only the search: this KB once ran for minutes and took 24 GB
+/// before expanding a state.
+#[test]
+fn the_heuristic_set_up_keeps_to_the_memory_and_time_budgets() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("hostile-setup");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    std::fs::write(dir.join("grid.pl"), huge_grid()).expect("written");
+    let (status, stderr) = run(&dir, &["plan", "--max-memory", "64", "--timeout", "100"], "grid.pl").expect("it ends");
+    assert_eq!(status, 1, "{stderr}");
+    assert!(stderr.contains("error[E0305]") && stderr.contains("64 MB of memory"), "{stderr}");
+    assert!(stderr.contains("the heuristic's set-up") && stderr.contains("--search paper"), "{stderr}");
+    // The budget covers the relaxation's tables; the rest of the process (the KB, the task,
+    // the allocator's slack) is far smaller than another 64 MB.
+    let peak = process_peak_mb(&stderr).expect("the note gives the process's peak");
+    assert!(peak < 128.0, "the process peaked at {peak} MB under a 64 MB budget");
+    let (status, stderr) = run(&dir, &["plan", "--timeout", "1"], "grid.pl").expect("it ends");
+    assert_eq!(status, 1, "{stderr}");
+    assert!(stderr.contains("error[E0305]") && stderr.contains("ran out of time"), "{stderr}");
+}

@@ -44,7 +44,7 @@ pub(super) struct PlanningArgs {
     /// Give up after this many seconds.
     #[arg(long, value_name = "SECONDS")]
     pub(super) timeout: Option<f64>,
-    /// Give up when the stored states exceed this many megabytes.
+    /// Give up when the stored states, or the heuristic's tables, exceed this many megabytes.
     #[arg(long, value_name = "MB", default_value_t = 2048)]
     pub(super) max_memory: u64,
     /// How to print diagnostics.

@@ -450,26 +450,28 @@ impl Explainer<'_, '_> {
 }
 
 /// A goal literal unreachable even ignoring deletions, as an E0306 diagnostic with the reason;
-/// `None` if every goal literal is reachable that way.
+/// `None` if every goal literal is reachable that way, or if the exploration does not fit
+/// `budget`'s time and memory.
 pub fn explain_unreachable(
     kb: &Kb,
     task: &mut Task,
     program: &Program,
     interner: &Interner,
-    engine_steps: u64,
+    budget: &super::Budget,
 ) -> Option<Diagnostic> {
     let mut explainer = Explainer {
         open_add: false,
         kb,
         interner,
         relaxation: Relaxation::unprojected(task),
-        machine: Machine::new(program, engine_steps),
+        machine: Machine::new(program, budget.engine_steps),
         cache: OnKbCache::new(task),
         notes: Vec::new(),
         labels: Vec::new(),
     };
     let init = task.init.clone();
     let Explainer { relaxation, machine, cache, .. } = &mut explainer;
+    relaxation.limit(budget.deadline, budget.max_bytes);
     relaxation.evaluate_all(task, &init, machine, cache).ok()?;
     let unreached = explainer.relaxation.unreached_goals().to_vec();
     let &first = unreached.first()?;

@@ -139,13 +139,13 @@ pub fn search(
 ) -> Outcome {
     let mut stats = Stats::default();
     let mut relaxation = Relaxation::new(task);
-    // Grounding gets the search's deadline and half its memory: beyond them the heuristic
-    // stays lifted, and the search itself then meets the budget with a diagnostic.
-    relaxation.limit_grounding(budget.deadline, budget.max_bytes / 2);
+    // The heuristic's set-up and every evaluation share the search's deadline and memory
+    // budget; grounding that would take more than half the memory leaves the heuristic lifted.
+    relaxation.limit(budget.deadline, budget.max_bytes);
     {
         let (machine, cache) = successors.parts();
-        if let Err(error) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
-            return Outcome::failed(Failure::Condition(error), stats);
+        if let Err(stop) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
+            return Outcome::failed(stop.into(), stats);
         }
     }
     let init = task.init.clone();
@@ -237,7 +237,7 @@ pub fn search(
             let (machine, cache) = successors.parts();
             match relaxation.evaluate_for_search(task, &state, machine, cache, parent_accepted.as_deref()) {
                 Ok(evaluated) => evaluated,
-                Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
+                Err(stop) => return Outcome::ended(found, stop.into(), stats),
             }
         };
         stats.evaluated += 1;

@@ -131,6 +131,15 @@ pub enum BudgetKind {
     Memory,
 }
 
+impl From<relaxed::Stop> for Failure {
+    fn from(stop: relaxed::Stop) -> Failure {
+        match stop {
+            relaxed::Stop::Condition(error) => Failure::Condition(error),
+            relaxed::Stop::Budget(kind) => Failure::Budget(kind),
+        }
+    }
+}
+
 /// Why no plan came back.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Failure {
@@ -243,16 +252,20 @@ pub fn search_scored(
     let init = task.init.clone();
     let root = {
         let mut relaxation = relaxed::Relaxation::new(task);
+        relaxation.limit(options.budget.deadline, options.budget.max_bytes);
         let (machine, cache) = successors.parts();
         relaxation.evaluate(task, &init, machine, cache, false)
     };
     match root {
-        Err(error) => {
+        // The root check only looks for a goal that can never be reached; the paper's search
+        // does not need it, so one too big for the budget is skipped rather than fatal.
+        Err(relaxed::Stop::Budget(_)) if options.search == SearchKind::Paper => {}
+        Err(stop) => {
             let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
-            return Outcome::failed(Failure::Condition(error), stats);
+            return Outcome::failed(stop.into(), stats);
         }
         Ok(estimate) if estimate.h_add.is_none() => {
-            let explained = analysis::explain_unreachable(kb, task, &program, interner, options.budget.engine_steps);
+            let explained = analysis::explain_unreachable(kb, task, &program, interner, &options.budget);
             let stats = Stats { elapsed: started.elapsed(), evaluated: 1, ..Stats::default() };
             let result = match explained {
                 Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
@@ -348,9 +361,19 @@ pub fn failure_diagnostic(
                     (format!("its budget of {} MB of memory", options.budget.max_bytes >> 20), "raise `--max-memory`")
                 }
             };
-            Diagnostic::error(codes::SEARCH_BUDGET, format!("the search for `{problem}` ran out of {what}"))
-                .with_note(format!("no plan found so far: {}", figures))
-                .with_help(help)
+            let diagnostic =
+                Diagnostic::error(codes::SEARCH_BUDGET, format!("the search for `{problem}` ran out of {what}"))
+                    .with_note(format!("no plan found so far: {}", figures));
+            if stats.expanded == 0 && options.search == SearchKind::Heuristic && *kind != BudgetKind::States {
+                diagnostic
+                    .with_note(
+                        "it ran out in the heuristic's set-up, which explores everything the initial state can \
+                         reach when deletions are ignored",
+                    )
+                    .with_help(format!("{help}, or try `--search paper`, which uses no heuristic"))
+            } else {
+                diagnostic.with_help(help)
+            }
         }
         Failure::Unsolvable(diagnostic) => (**diagnostic).clone(),
         Failure::Condition(error) => {

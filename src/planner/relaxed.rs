@@ -25,6 +25,7 @@ use std::hash::BuildHasher;
 use hashbrown::HashTable;
 use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
 
+use super::BudgetKind;
 use super::ground::{GroundTask, RecordedAction};
 use super::landmarks::{Accepted, Landmarks};
 use super::successors::{ConditionError, OnKbCache, instantiate, match_pattern, substitute, undo};
@@ -104,6 +105,27 @@ impl Table {
         for index in self.index.iter_mut().flatten() {
             index.clear();
         }
+    }
+
+    /// The bytes this table holds, counting capacity (what the allocator gave it).
+    fn footprint(&self) -> usize {
+        use std::mem::size_of;
+        let index: usize = self
+            .index
+            .iter()
+            .flatten()
+            .map(|index| {
+                index.capacity() * (size_of::<ConstId>() + size_of::<Vec<u32>>() + 1)
+                    + index.values().map(|v| v.capacity() * 4).sum::<usize>()
+            })
+            .sum();
+        self.values.capacity() * size_of::<ConstId>()
+            + self.lookup.capacity() * (size_of::<u32>() + 1)
+            + self.cost.capacity() * 4
+            + self.done.capacity()
+            + self.support.capacity() * size_of::<Support>()
+            + self.settled.capacity() * 4
+            + index
     }
 
     fn tuple(&self, t: u32) -> &[ConstId] {
@@ -186,10 +208,39 @@ pub struct Relaxation {
     dropped: FxHashMap<PredId, Box<[bool]>>,
     /// The ground task's landmarks, found when it is built.
     landmarks: Option<Landmarks>,
-    /// When grounding must give up (the search's deadline), and the most bytes its recorded
-    /// instantiations may take: beyond either, evaluation stays lifted.
-    grounding_deadline: Option<std::time::Instant>,
-    grounding_max_bytes: usize,
+    /// The search's budget: every exploration (grounding included) stops with
+    /// [`Stop::Budget`] at `deadline`, or once its tables take more than `max_bytes`.
+    limits: Limits,
+}
+
+/// The time and memory an exploration may take; see [`Relaxation::limit`].
+#[derive(Clone, Copy, Debug)]
+struct Limits {
+    deadline: Option<std::time::Instant>,
+    max_bytes: usize,
+    /// Join steps since the last look at the clock.
+    ticks: u32,
+    /// Set when a table would have grown beyond `max_bytes`.
+    exhausted: bool,
+}
+
+/// How often (in join steps) an exploration checks its budget: a few microseconds of work
+/// between two looks at the clock.
+const CHECK_EVERY: u32 = 4096;
+
+/// Why an exploration stopped without an answer.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stop {
+    /// An OnKB goal failed in the engine.
+    Condition(ConditionError),
+    /// The search's time or memory budget ran out.
+    Budget(BudgetKind),
+}
+
+impl From<ConditionError> for Stop {
+    fn from(error: ConditionError) -> Stop {
+        Stop::Condition(error)
+    }
 }
 
 /// An Invalid literal instance: rule, literal, and the values of the literal's variables.
@@ -203,10 +254,9 @@ struct Recorder {
     /// with only the literal's own kept) to their number.
     instances: FxHashMap<InstanceKey, u32>,
     instance_list: Vec<InstanceKey>,
-    /// The most instantiations to record before giving up on grounding.
+    /// The most instantiations, and the most bytes (an estimate), to record before giving
+    /// up on grounding.
     limit: usize,
-    /// When to give up, and the most bytes to record (an estimate).
-    deadline: Option<std::time::Instant>,
     max_bytes: usize,
     bytes: usize,
     overflowed: bool,
@@ -284,8 +334,7 @@ impl Relaxation {
             ground: None,
             negated_views: Vec::new(),
             landmarks: None,
-            grounding_deadline: None,
-            grounding_max_bytes: usize::MAX,
+            limits: Limits { deadline: None, max_bytes: usize::MAX, ticks: 0, exhausted: false },
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
@@ -482,6 +531,19 @@ impl Relaxation {
     }
 
     fn relax(&mut self, view: u32, values: &[ConstId], cost: u32, support: Support) {
+        if self.limits.exhausted {
+            return;
+        }
+        let table = &self.tables[view as usize];
+        if table.cost.len() == table.cost.capacity() || self.queue.len() == self.queue.capacity() {
+            // About to grow: a table or the queue roughly doubles, so check the memory budget
+            // before the allocation rather than after it.
+            let growth = table.footprint() + self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>();
+            if self.footprint() + growth > self.limits.max_bytes {
+                self.limits.exhausted = true;
+                return;
+            }
+        }
         let table = &mut self.tables[view as usize];
         let (t, _) = table.find_or_insert(&self.hasher, values);
         if table.done[t as usize] || cost >= table.cost[t as usize] {
@@ -512,7 +574,7 @@ impl Relaxation {
         machine: &mut Machine<'_>,
         cache: &mut OnKbCache,
         plan: bool,
-    ) -> Result<Estimate, ConditionError> {
+    ) -> Result<Estimate, Stop> {
         if self.ground.is_some() {
             return Ok(self.evaluate_ground(task, state, plan));
         }
@@ -538,25 +600,24 @@ impl Relaxation {
         cache: &mut OnKbCache,
         limit: usize,
         negative: bool,
-    ) -> Result<bool, ConditionError> {
+    ) -> Result<bool, Stop> {
         self.recorder = Some(Recorder {
             seen: FxHashSet::default(),
             actions: Vec::new(),
             instances: FxHashMap::default(),
             instance_list: Vec::new(),
             limit,
-            deadline: self.grounding_deadline,
-            max_bytes: self.grounding_max_bytes,
+            max_bytes: self.limits.max_bytes / 2,
             bytes: 0,
             overflowed: false,
         });
         let init = task.init.clone();
         let explored = self.explore(task, &init, machine, cache, false, false);
         let recorder = self.recorder.take().expect("set above");
-        explored?;
         if recorder.overflowed {
             return Ok(false);
         }
+        explored?;
         let sizes: Vec<usize> = self.tables.iter().map(|t| t.cost.len()).collect();
         let goals: Vec<Vec<(u32, u32)>> = self
             .goal
@@ -616,12 +677,40 @@ impl Relaxation {
         Ok(true)
     }
 
-    /// Bounds [`Relaxation::ground`] by the search's budget: it gives up at `deadline`, or once
-    /// its recorded instantiations would take more than `max_bytes`, and evaluation stays
-    /// lifted (slower per state, but within memory).
-    pub fn limit_grounding(&mut self, deadline: Option<std::time::Instant>, max_bytes: usize) {
-        self.grounding_deadline = deadline;
-        self.grounding_max_bytes = max_bytes;
+    /// Bounds every exploration by the search's budget: one stops with [`Stop::Budget`] at
+    /// `deadline` or once its tables take more than `max_bytes`. [`Relaxation::ground`] also
+    /// gives up grounding once its recorded instantiations would take more than half of
+    /// `max_bytes`, and evaluation stays lifted (slower per state, but within memory).
+    pub fn limit(&mut self, deadline: Option<std::time::Instant>, max_bytes: usize) {
+        self.limits = Limits { deadline, max_bytes, ticks: 0, exhausted: false };
+    }
+
+    /// The bytes the exploration tables, and while grounding the recorded instantiations, hold.
+    pub fn footprint(&self) -> usize {
+        self.recorder.as_ref().map_or(0, |r| r.bytes)
+            + self.tables.iter().map(Table::footprint).sum::<usize>()
+            + self.arena.capacity() * std::mem::size_of::<Option<ConstId>>()
+            + self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>()
+    }
+
+    /// Counts one step of work and, every [`CHECK_EVERY`] steps, checks the budget. Grounding
+    /// that has given up also stops the exploration: the rest of it would be wasted.
+    fn tick(&mut self) -> Result<(), Stop> {
+        if self.limits.exhausted {
+            return Err(Stop::Budget(BudgetKind::Memory));
+        }
+        self.limits.ticks += 1;
+        if self.limits.ticks < CHECK_EVERY {
+            return Ok(());
+        }
+        self.limits.ticks = 0;
+        if self.recorder.as_ref().is_some_and(|r| r.overflowed) {
+            return Err(Stop::Budget(BudgetKind::Memory));
+        }
+        if self.limits.deadline.is_some_and(|d| std::time::Instant::now() >= d) {
+            return Err(Stop::Budget(BudgetKind::Time));
+        }
+        Ok(())
     }
 
     /// The number of ground actions, when grounded.
@@ -708,7 +797,7 @@ impl Relaxation {
         machine: &mut Machine<'_>,
         cache: &mut OnKbCache,
         parent: Option<&[u64]>,
-    ) -> Result<(Estimate, Option<(Accepted, u32)>), ConditionError> {
+    ) -> Result<(Estimate, Option<(Accepted, u32)>), Stop> {
         if self.ground.is_none() || self.landmarks.is_none() {
             return Ok((self.explore(task, state, machine, cache, true, true)?, None));
         }
@@ -734,7 +823,7 @@ impl Relaxation {
         state: &State,
         machine: &mut Machine<'_>,
         cache: &mut OnKbCache,
-    ) -> Result<Estimate, ConditionError> {
+    ) -> Result<Estimate, Stop> {
         self.explore(task, state, machine, cache, false, false)
     }
 
@@ -768,7 +857,8 @@ impl Relaxation {
         cache: &mut OnKbCache,
         plan: bool,
         stop_at_goal: bool,
-    ) -> Result<Estimate, ConditionError> {
+    ) -> Result<Estimate, Stop> {
+        self.limits.exhausted = false;
         for table in &mut self.tables {
             table.clear();
         }
@@ -794,6 +884,7 @@ impl Relaxation {
         let mut trail = Vec::new();
         while remaining > 0 || !stop_at_goal {
             let Some(Reverse((cost, view, t))) = self.queue.pop() else { break };
+            self.tick()?;
             let table = &mut self.tables[view as usize];
             if table.done[t as usize] || cost > table.cost[t as usize] {
                 continue;
@@ -854,7 +945,7 @@ impl Relaxation {
         rule: usize,
         position: usize,
         t: u32,
-    ) -> Result<(), ConditionError> {
+    ) -> Result<(), Stop> {
         let vars = self.rules[rule].vars;
         let mut bindings = vec![None; vars];
         let mut trail = Vec::new();
@@ -882,7 +973,7 @@ impl Relaxation {
         bindings: &mut Vec<Option<ConstId>>,
         trail: &mut Vec<u32>,
         cost: u32,
-    ) -> Result<(), ConditionError> {
+    ) -> Result<(), Stop> {
         let Some(&JoinStep { literal, lookup }) = order.get(step) else {
             return self.fire(task, machine, cache, rule, bindings, cost);
         };
@@ -903,6 +994,7 @@ impl Relaxation {
             None => self.tables[view].settled.clone(),
         };
         for u in candidates {
+            self.tick()?;
             let mark = trail.len();
             let table = &self.tables[view];
             let args = &self.rules[rule].body[literal as usize].args;
@@ -925,7 +1017,7 @@ impl Relaxation {
         rule: usize,
         bindings: &mut [Option<ConstId>],
         cost: u32,
-    ) -> Result<(), ConditionError> {
+    ) -> Result<(), Stop> {
         let schema_index = self.rules[rule].schema as usize;
         let solutions = if task.schemas[schema_index].on_kb.is_empty() {
             None
@@ -983,10 +1075,7 @@ impl Relaxation {
         if recorder.overflowed || !recorder.seen.insert((rule as u32, bindings.into())) {
             return;
         }
-        if recorder.actions.len() >= recorder.limit
-            || recorder.bytes > recorder.max_bytes
-            || (recorder.actions.len() % 1024 == 0 && recorder.deadline.is_some_and(|d| std::time::Instant::now() > d))
-        {
+        if recorder.actions.len() >= recorder.limit || recorder.bytes > recorder.max_bytes {
             recorder.overflowed = true;
             return;
         }
