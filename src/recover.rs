@@ -125,6 +125,9 @@ pub fn execute(
         let run = vm_run::run(&program, &mut host, (settings.max_time - offset).max(0), settings.max_ticks);
         let log = host.log;
         sim = host.host;
+        // The tree may end on a wait that calls no host (a durative action's least duration
+        // after its arm finished): bring the world to the program's end, where it is read back.
+        sim.advance_to(run.end);
         // The goal, without what a stopped arm can no longer make true.
         let (goal, _) = waive(session, problem, &sim.world().stopped_arms());
         // When the tree says the plan was carried out, its timeline must satisfy the KB.

@@ -71,6 +71,15 @@ fn check(value: &Value, schema: &Value, path: &str, errors: &mut Vec<String>) {
             }
         }
     }
+    if let Some(array) = value.as_array() {
+        let count = array.len() as u64;
+        if schema.get("minItems").and_then(Value::as_u64).is_some_and(|least| count < least) {
+            errors.push(format!("{path}: {count} items, fewer than minItems"));
+        }
+        if schema.get("maxItems").and_then(Value::as_u64).is_some_and(|most| count > most) {
+            errors.push(format!("{path}: {count} items, more than maxItems"));
+        }
+    }
     if let (Some(items), Some(array)) = (schema.get("items"), value.as_array()) {
         for (i, item) in array.iter().enumerate() {
             check(item, items, &format!("{path}[{i}]"), errors);
@@ -142,4 +151,40 @@ fn the_checker_rejects_what_breaks_a_schema() {
     let wrong = serde_json::json!({ "type": "validation", "valid": "yes", "timed": false, "problem": "p", "extra": 1 });
     check(&wrong, &schemas["validation"], "validation", &mut errors);
     assert_eq!(errors.len(), 3, "a wrong type, an unknown field, a missing field: {errors:?}");
+}
+
+/// `kbc run --record` writes what docs/json.md documents, with one pose per block, gripper and
+/// elbow in every frame, and frames in time order up to the run's end.
+#[test]
+fn the_recorded_run_matches_its_schema_in_docs_json_md() {
+    let schemas = schemas();
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("json-record");
+    std::fs::create_dir_all(&dir).expect("writable");
+    let file = dir.join("run.json");
+    let file_arg = file.to_str().expect("UTF-8 path");
+    let timeline =
+        kbc(&["run", "-q", "examples/02_llm_stacking/test_case.pl", "--fault", "drop:a2@1", "--record", file_arg]);
+    let record: Value = serde_json::from_str(&std::fs::read_to_string(&file).expect("written")).expect("JSON");
+    let mut errors = Vec::new();
+    check(&record, &schemas["kbc-sim-record"], "record", &mut errors);
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+    let (blocks, arms) = (record["blocks"].as_array().unwrap().len(), record["arms"].as_array().unwrap().len());
+    assert_eq!((blocks, arms), (4, 3), "the example's blocks and arms");
+    let frames = record["frames"].as_array().unwrap();
+    let mut last = -1.0;
+    for frame in frames {
+        let t = frame["t"].as_f64().unwrap();
+        assert!(t > last, "frames in time order");
+        last = t;
+        assert_eq!(frame["blocks"].as_array().unwrap().len(), blocks);
+        assert_eq!(frame["grippers"].as_array().unwrap().len(), arms);
+        assert_eq!(frame["elbows"].as_array().unwrap().len(), arms);
+    }
+    // The last frame is the run's end, as the timeline prints it.
+    let end: f64 = timeline
+        .lines()
+        .find_map(|l| l.strip_prefix("% success at ")?.split(';').next()?.parse().ok())
+        .expect("the run succeeds");
+    assert!((last - end).abs() <= 0.05 + 1e-9, "last frame at {last} s, the run ended at {end} s");
+    assert_eq!(record["faults"][0]["what"].as_str().map(|w| w.starts_with("drop")), Some(true));
 }

@@ -90,6 +90,11 @@ pub(super) struct RunArgs {
     /// arms, KB files).
     #[arg(long, value_name = "FILE")]
     gantt_svg: Option<PathBuf>,
+    /// Write a page that replays the run (simulated arms): one self-contained HTML file with
+    /// a top and a side view, a time slider, play and pause, and the planned-versus-executed
+    /// chart. Open it in any browser; `FILE#t=end` opens it at the end.
+    #[arg(long, value_name = "FILE")]
+    view: Option<PathBuf>,
 }
 
 impl RunArgs {
@@ -201,6 +206,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
         (!args.fault.is_empty(), "--fault"),
         (args.record.is_some(), "--record"),
         (args.gantt_svg.is_some(), "--gantt-svg"),
+        (args.view.is_some(), "--view"),
     ];
     if let Some((_, option)) = sim_only.iter().find(|(given, _)| *given && args.host == Some(HostKind::Trace)) {
         eprintln!("error: `{option}` needs the simulated arms (`--host sim`)");
@@ -272,7 +278,7 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
                 Ok(world) => {
                     let horizon = makespan.unwrap_or(program.module().time_scale as i64 * 10) as f64 / scale;
                     let mut sim = with_faults(world, &args.fault, args.seed, horizon);
-                    if args.record.is_some() {
+                    if args.record.is_some() || args.view.is_some() {
                         sim.record(RECORD_SECONDS);
                     }
                     Some(sim)
@@ -307,34 +313,122 @@ pub(super) fn run(args: RunArgs, color: bool) -> ExitCode {
 /// How often `--record` samples the poses, in simulated seconds.
 const RECORD_SECONDS: f64 = 0.05;
 
-/// The recorded poses as JSON: names, then one frame per sample.
-fn record_json(sim: &kbvm::sim::SimHost) -> String {
+/// The recorded poses as JSON (the `kbc-sim-record` format of docs/json.md): the world's
+/// geometry and names, then one frame per sample.
+fn record_value(sim: &kbvm::sim::SimHost) -> serde_json::Value {
     let world = sim.world();
     let config = world.config();
     let frames: Vec<serde_json::Value> = sim
         .frames()
         .iter()
-        .map(|f| serde_json::json!({"t": f.time, "blocks": f.blocks, "grippers": f.grippers}))
+        .map(|f| serde_json::json!({"t": f.time, "blocks": f.blocks, "grippers": f.grippers, "elbows": f.elbows}))
         .collect();
     let faults: Vec<serde_json::Value> = sim
         .injected()
         .iter()
         .map(|(t, what)| serde_json::json!({"t": *t as f64 / config.units_per_second as f64, "what": what}))
         .collect();
-    let value = serde_json::json!({
+    serde_json::json!({
         "format": "kbc-sim-record",
         "version": 1,
         "units": {"length": "m", "time": "s", "rotation": "quaternion x y z w"},
+        "units_per_second": config.units_per_second,
         "cell_size": config.cell_size,
         "block_size": config.block_size,
+        "cells": world.cells(),
         "blocks": world.block_names(),
         "arms": world.arm_names(),
+        "shoulders": world.arm_shoulders(),
         "frames": frames,
         "faults": faults,
-    });
-    let mut text = serde_json::to_string(&value).expect("JSON of plain values");
+    })
+}
+
+/// [`record_value`] as one line of JSON.
+fn record_json(sim: &kbvm::sim::SimHost) -> String {
+    let mut text = serde_json::to_string(&record_value(sim)).expect("JSON of plain values");
     text.push('\n');
     text
+}
+
+/// An action as it ran: its text, the arm its name names (an index into the world's arms),
+/// its start and end in program time units from the world's start, and how it ended.
+struct Ran {
+    text: String,
+    arm: Option<usize>,
+    start: i64,
+    end: i64,
+    ending: render::gantt::Ending,
+}
+
+/// The actions of one round's log, each from its start to its end (or failure, or halt);
+/// `offset` is the round's start on the world's clock.
+fn ran_actions(
+    program: &Program,
+    arms: &[String],
+    offset: i64,
+    log: &Log,
+) -> Vec<Ran> {
+    use render::gantt::Ending;
+    let mut open: Vec<(kbvm::bytecode::EventId, i64)> = Vec::new();
+    let mut ran = Vec::new();
+    for (t, id, event) in log {
+        let t = offset + t;
+        let ending = match event {
+            HostEvent::Start => {
+                open.push((*id, t));
+                continue;
+            }
+            HostEvent::Failed(_) => Ending::Failed,
+            HostEvent::Halted => Ending::Halted,
+            _ => Ending::Done,
+        };
+        let start = open.iter().position(|(o, _)| o == id).map(|i| open.remove(i).1).unwrap_or(t);
+        let text = program.action_text(*id);
+        let arm = text.split(['(', ',', ')']).skip(1).find_map(|a| arms.iter().position(|n| n == a.trim()));
+        ran.push(Ran { text, arm, start, end: t, ending });
+    }
+    ran
+}
+
+/// The `% ` lines of a run's timeline after its last event (how it ended, the makespans), as
+/// one line for the `--view` page.
+fn summary_of(timeline: &str) -> String {
+    let lines: Vec<&str> = timeline.lines().filter_map(|l| l.strip_prefix("% ")).skip(1).collect();
+    lines.join("; ")
+}
+
+/// Writes the `--view` page of a run of `rounds` (program, its start on the world's clock,
+/// its log).
+fn write_view(
+    path: &Path,
+    title: &str,
+    summary: &str,
+    sim: &kbvm::sim::SimHost,
+    rounds: &[(&Program, i64, &Log)],
+    gantt_svg: Option<&str>,
+) -> Result<(), ExitCode> {
+    use render::gantt::Ending;
+    let arms = sim.world().arm_names();
+    let mut actions = Vec::new();
+    for (program, offset, log) in rounds {
+        let seconds = |t: i64| t as f64 / program.module().time_scale as f64;
+        actions.extend(ran_actions(program, &arms, *offset, log).into_iter().map(|r| render::view::RanAction {
+            arm: r.arm.map(|a| arms[a].clone()),
+            start: seconds(r.start),
+            end: seconds(r.end),
+            ending: match r.ending {
+                Ending::Done => "done",
+                Ending::Failed => "failed",
+                Ending::Halted => "halted",
+            },
+            text: r.text,
+        }));
+    }
+    let actions = actions.as_slice();
+    let record = record_value(sim);
+    let page = render::view::html(&render::view::RunView { title, summary, record: &record, actions, gantt_svg });
+    write_output(path, page.as_bytes())
 }
 
 /// A host over `world` with the faults asked for, their open parts drawn from `seed`.
@@ -348,7 +442,10 @@ fn with_faults(world: kbvm::sim::World, specs: &[FaultSpec], seed: u64, horizon:
 /// One timeline entry: the world's time, then the line.
 type Entry = (i64, String);
 
-fn timeline_entries(program: &Program, offset: i64, log: &[(i64, kbvm::bytecode::EventId, HostEvent)]) -> Vec<Entry> {
+/// A run's log: each event's time (program units), action and what happened.
+type Log = [(i64, kbvm::bytecode::EventId, HostEvent)];
+
+fn timeline_entries(program: &Program, offset: i64, log: &Log) -> Vec<Entry> {
     let time = |t: i64| program.time_text(t);
     log.iter()
         .map(|(t, id, event)| {
@@ -402,6 +499,8 @@ fn run_once(
         Some(sim) => {
             let mut host = Logged::new(sim);
             let result = vm_run::run(&program, &mut host, max_time, args.max_ticks);
+            // The world at the program's end (the tree may end on a wait that calls no host).
+            host.host.advance_to(result.end);
             (result, host.log, Some(host.host))
         }
     };
@@ -426,6 +525,13 @@ fn run_once(
         && let Err(status) = write_output(path, record_json(sim).as_bytes())
     {
         return status;
+    }
+    if let (Some(path), Some(sim)) = (&args.view, &world) {
+        let title = args.planning.files.first().map_or(String::new(), |f| f.display().to_string());
+        let summary = summary_of(&out);
+        if let Err(status) = write_view(path, &title, &summary, sim, &[(&program, 0, &log)], None) {
+            return status;
+        }
     }
     if let Some(diagnostic) = execute::outcome_diagnostic(&program, &result.outcome, &end, args.budget()) {
         diagnostics.push(diagnostic);
@@ -538,9 +644,18 @@ fn run_with_recovery(
     {
         return status;
     }
-    if let Some(path) = &args.gantt_svg {
-        let svg = run_chart(&session, &first_plan.timed.pop, &first_plan.timed.schedule, &execution);
-        if let Err(status) = write_output(path, svg.as_bytes()) {
+    let chart = (args.gantt_svg.is_some() || args.view.is_some())
+        .then(|| run_chart(&session, &first_plan.timed.pop, &first_plan.timed.schedule, &execution));
+    if let (Some(path), Some(svg)) = (&args.gantt_svg, &chart)
+        && let Err(status) = write_output(path, svg.as_bytes())
+    {
+        return status;
+    }
+    if let Some(path) = &args.view {
+        let title = session.interner().resolve(session.kb().problems[problem].name).to_string();
+        let rounds: Vec<_> = execution.rounds.iter().map(|r| (&r.program, r.offset, r.log.as_slice())).collect();
+        let summary = summary_of(&out);
+        if let Err(status) = write_view(path, &title, &summary, &execution.sim, &rounds, chart.as_deref()) {
             return status;
         }
     }
@@ -574,39 +689,30 @@ fn run_chart(
     schedule: &crate::ir::schedule::Schedule,
     execution: &recover::Execution,
 ) -> String {
-    use crate::render::gantt::{self, Bar, Ending};
+    use crate::render::gantt::{self, Bar};
     let arms = execution.sim.world().arm_names();
     let mut lanes = Vec::new();
     for arm in &arms {
         lanes.push(format!("{arm} planned"));
         lanes.push(format!("{arm} executed"));
     }
-    let arm_lane = |name: &str| arms.iter().position(|a| a == name);
-    let planned_lane = |name: &str| arm_lane(name).map(|i| 2 * i);
+    let planned_lane = |name: &str| arms.iter().position(|a| a == name).map(|i| 2 * i);
     let mut bars = gantt::schedule_bars(session.interner(), session.kb(), pop, schedule, &planned_lane);
     let mut end = schedule.makespan;
     for round in &execution.rounds {
-        let mut open: Vec<(kbvm::bytecode::EventId, i64)> = Vec::new();
-        for (t, id, event) in &round.log {
-            let t = round.offset + t;
-            end = end.max(t);
-            let text = round.program.action_text(*id);
-            let label = text.split('(').next().unwrap_or(&text).to_string();
-            let lane = text.split(['(', ',', ')']).skip(1).find_map(|a| arm_lane(a.trim())).map(|i| 2 * i + 1);
-            let started = match event {
-                HostEvent::Start => {
-                    open.push((*id, t));
-                    continue;
-                }
-                _ => open.iter().position(|(o, _)| o == id).map(|i| open.remove(i).1).unwrap_or(t),
-            };
-            let ending = match event {
-                HostEvent::Failed(_) => Ending::Failed,
-                HostEvent::Halted => Ending::Halted,
-                _ => Ending::Done,
-            };
-            if let Some(lane) = lane {
-                bars.push(Bar { lane, title: text.clone(), label, start: started, end: t, ending });
+        for ran in ran_actions(&round.program, &arms, round.offset, &round.log) {
+            end = end.max(ran.end);
+            if let Some(arm) = ran.arm {
+                let label = ran.text.split('(').next().unwrap_or(&ran.text).to_string();
+                let bar = Bar {
+                    lane: 2 * arm + 1,
+                    label,
+                    title: ran.text,
+                    start: ran.start,
+                    end: ran.end,
+                    ending: ran.ending,
+                };
+                bars.push(bar);
             }
         }
     }

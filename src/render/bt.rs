@@ -12,20 +12,7 @@ use std::fmt::Write;
 
 use kbvm::bytecode::{Instr, Module, Value};
 
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
+use super::xml_escape as escape;
 
 /// For each event, the start node that records it (ends name their action after it).
 fn start_nodes(module: &Module) -> Vec<Option<&Instr>> {

@@ -13,6 +13,8 @@ use crate::ir::pop::Pop;
 use crate::ir::schedule::{self, Schedule};
 use crate::ir::stn::{UNITS, format_time};
 
+use super::xml_escape as escape;
+
 const PALETTE: [&str; 8] = ["#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#edc948", "#b07aa1", "#9c755f"];
 const LANE: i64 = 30;
 const LEFT: i64 = 80;
@@ -34,10 +36,6 @@ fn fitted(label: &str, width: i64) -> Option<String> {
     } else {
         None
     }
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
 /// A bar of a chart: a lane, a label (the action), a colour key, its interval (program time
@@ -142,11 +140,15 @@ pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)]
     let x = |t: i64| LEFT + t.clamp(0, span) * WIDTH / span;
     // The chart, its axis, then a legend row.
     let height = 40 + LANE * lanes.len().max(1) as i64 + 30 + 22;
+    let axis = 30 + LANE * lanes.len().max(1) as i64;
     let mut out = String::new();
+    // The data attributes give the time axis (x0 at time 0, x1 at `span` program units, the
+    // lanes from y0 to y1), for a page that draws a time cursor over the chart.
     let _ = writeln!(
         out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"11\">",
-        LEFT + WIDTH + 20
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"11\" data-x0=\"{LEFT}\" data-x1=\"{}\" data-span=\"{span}\" data-y0=\"26\" data-y1=\"{axis}\">",
+        LEFT + WIDTH + 20,
+        LEFT + WIDTH
     );
     let _ = writeln!(out, "<text x=\"{LEFT}\" y=\"16\" font-size=\"13\">{}</text>", escape(title));
     for (lane, label) in lanes.iter().enumerate() {
@@ -163,7 +165,6 @@ pub fn draw(title: &str, lanes: &[String], bars: &[Bar], marks: &[(i64, String)]
     // A tick per time unit, at most twenty of them.
     let units_total = span / UNITS;
     let step = (units_total / 20).max(1) * UNITS;
-    let axis = 30 + LANE * lanes.len().max(1) as i64;
     let mut t = 0;
     while t <= span {
         let _ = writeln!(

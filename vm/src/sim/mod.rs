@@ -215,6 +215,8 @@ pub struct Frame {
     pub blocks: Vec<[f64; 7]>,
     /// Each gripper's position, in the order of [`World::arm_names`].
     pub grippers: Vec<[f64; 3]>,
+    /// Each arm's elbow (the joint between its two links), in the same order.
+    pub elbows: Vec<[f64; 3]>,
 }
 
 impl SimHost {

@@ -101,6 +101,15 @@ pub(crate) struct Arm {
     pub(crate) lost: Option<usize>,
 }
 
+impl Arm {
+    /// Where the elbow is: the end of the first link.
+    fn elbow(&self) -> Vector3<f64> {
+        let (j, m) = (self.joints, &self.model);
+        let r = m.upper * j.shoulder.cos();
+        m.shoulder + Vector3::new(r * j.yaw.cos(), r * j.yaw.sin(), m.upper * j.shoulder.sin())
+    }
+}
+
 /// The simulated world.
 pub struct World {
     pub(crate) physics: PhysicsWorld,
@@ -312,13 +321,21 @@ impl World {
                 [p.x, p.y, p.z, q.x, q.y, q.z, q.w].map(|v| (v as f64 * 1e4).round() / 1e4)
             })
             .collect();
-        let grippers = (0..self.arms.len())
-            .map(|a| {
-                let p = self.gripper_position(a);
-                [p.x, p.y, p.z].map(|v| (v * 1e4).round() / 1e4)
-            })
-            .collect();
-        super::Frame { time: self.steps as f64 * self.config.step_seconds(), blocks, grippers }
+        let round = |p: Vector3<f64>| [p.x, p.y, p.z].map(|v| (v * 1e4).round() / 1e4);
+        let grippers = (0..self.arms.len()).map(|a| round(self.gripper_position(a))).collect();
+        let elbows = self.arms.iter().map(|arm| round(arm.elbow())).collect();
+        super::Frame { time: self.steps as f64 * self.config.step_seconds(), blocks, grippers, elbows }
+    }
+
+    /// Each arm's shoulder joint (metres), in the order of [`World::arm_names`]: the base an
+    /// arm turns about, fixed for the whole run.
+    pub fn arm_shoulders(&self) -> Vec<[f64; 3]> {
+        self.arms.iter().map(|a| [a.model.shoulder.x, a.model.shoulder.y, a.model.shoulder.z]).collect()
+    }
+
+    /// The table's cells, sorted.
+    pub fn cells(&self) -> &[(i64, i64)] {
+        &self.cells
     }
 
     /// The names of the arms that have stopped for good.
@@ -774,6 +791,22 @@ mod tests {
             Fact::new("available", vec![atom("a2")]),
         ];
         World::new(SimConfig::default(), &facts, &[(1, 1), (2, 2), (3, 3)]).expect("a world")
+    }
+
+    #[test]
+    fn a_frame_puts_each_elbow_one_link_from_the_shoulder_and_the_gripper() {
+        let world = world();
+        let frame = world.frame();
+        for (a, arm) in world.arms.iter().enumerate() {
+            let elbow = Vector3::from(frame.elbows[a]);
+            let gripper = Vector3::from(frame.grippers[a]);
+            let shoulder = Vector3::from(world.arm_shoulders()[a]);
+            assert!(((elbow - shoulder).norm() - arm.model.upper).abs() < 1e-3, "upper link of arm {a}");
+            assert!(((gripper - elbow).norm() - arm.model.fore).abs() < 1e-3, "forearm of arm {a}");
+            // Elbow up: above the straight line from the shoulder to the gripper.
+            let along = shoulder + (gripper - shoulder) * 0.5;
+            assert!(elbow.z > along.z, "arm {a} holds its elbow up");
+        }
     }
 
     /// Runs `steps` on arm 0 until they finish (or 20 simulated seconds pass).
