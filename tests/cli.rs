@@ -802,3 +802,31 @@ fn manual_pages_come_from_the_same_definitions_as_help() {
     }
     assert_eq!(kbc(&["man", "nope"]).status.code(), Some(2), "an unknown subcommand is a usage error");
 }
+
+/// The pass names of a `--verbose` table on stderr, in order.
+fn verbose_passes(stderr: &str) -> Vec<String> {
+    let table = &stderr[stderr.find("      pass        time  what").expect("the table's header")..];
+    table.lines().skip(1).filter_map(|l| l.split_whitespace().next().map(str::to_string)).collect()
+}
+
+#[test]
+fn verbose_lists_the_passes_each_command_ran_after_its_output() {
+    let file = "examples/02_llm_stacking/test_case.pl";
+    let check = kbc(&["check", "--verbose", file]);
+    assert_eq!(check.status.code(), Some(0));
+    assert_eq!(verbose_passes(&stderr(&check)), ["parse", "hir", "check", "total"]);
+    let build = kbc(&["build", "-v", file, "--emit", "bt-xml"]);
+    assert_eq!(build.status.code(), Some(0));
+    let passes = verbose_passes(&stderr(&build));
+    let expected = ["parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "bt", "codegen"];
+    assert_eq!(passes[..expected.len()], expected, "{passes:?}");
+    assert!(stdout(&build).starts_with("<?xml"), "the output itself is unchanged");
+    // The search's line says what it found and what it cost.
+    let text = stderr(&build);
+    let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
+    let steps = plan_lines(&stdout(&kbc(&["plan", "-q", file]))).len();
+    assert!(search.contains(&format!("a plan of {steps} snap actions")) && search.contains("expanded"), "{search}");
+    // Without the flag, no table; with --quiet, a usage error.
+    assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
+    assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));
+}

@@ -363,12 +363,7 @@ struct Ran {
 
 /// The actions of one round's log, each from its start to its end (or failure, or halt);
 /// `offset` is the round's start on the world's clock.
-fn ran_actions(
-    program: &Program,
-    arms: &[String],
-    offset: i64,
-    log: &Log,
-) -> Vec<Ran> {
+fn ran_actions(program: &Program, arms: &[String], offset: i64, log: &Log) -> Vec<Ran> {
     use render::gantt::Ending;
     let mut open: Vec<(kbvm::bytecode::EventId, i64)> = Vec::new();
     let mut ran = Vec::new();

@@ -37,6 +37,11 @@ struct Cli {
     /// ("wrote ..."); warnings, errors and results are printed as ever.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// Also print, on stderr after the command's output, each compiler pass it ran (parse,
+    /// hir, check, task, search, refine, pop, stn, schedule, reassign, bt, codegen, validate)
+    /// with its time and what it produced.
+    #[arg(short, long, global = true, conflicts_with = "quiet")]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -204,7 +209,11 @@ fn run() -> ExitCode {
             auto_color(std::io::stderr().is_terminal(), std::env::var_os("NO_COLOR"), std::env::var_os("TERM"))
         }
     };
-    match cli.command {
+    // (Not for the language server: nothing would ever print what it records.)
+    if cli.verbose && !matches!(cli.command, Command::Lsp { .. }) {
+        crate::session::timing::enable();
+    }
+    let status = match cli.command {
         Command::Check(args) => check(args, color),
         Command::Plan(args) => plan::run(args, color),
         Command::Validate(args) => validate::run(args, color),
@@ -222,7 +231,14 @@ fn run() -> ExitCode {
         }
         Command::Man { subcommand } => man(subcommand.as_deref()),
         Command::Lsp { stdio: _ } => crate::lsp::run_stdio(),
+    };
+    if cli.verbose {
+        let times = crate::session::timing::take();
+        if !times.is_empty() {
+            eprint!("{}", crate::session::timing::render(&times));
+        }
     }
+    status
 }
 
 /// `kbc man [SUBCOMMAND]`: the manual page, in roff, on stdout.

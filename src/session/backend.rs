@@ -16,13 +16,25 @@ pub(super) fn build_bytecode(
     timed: &Timed,
     host: Option<super::HostProfile<'_>>,
 ) -> Result<(crate::ir::bt::Bt, kbvm::bytecode::Module), Box<Diagnostic>> {
-    let bt = crate::passes::bt::build(&timed.pop, &timed.stn, &timed.schedule);
+    let bt = super::timing::time(
+        "bt",
+        || crate::passes::bt::build(&timed.pop, &timed.stn, &timed.schedule),
+        |bt| {
+            let mut nodes = 0;
+            bt.root.walk(0, &mut |_, _| nodes += 1);
+            format!("{nodes} nodes")
+        },
+    );
     super::verify_after("bt", || crate::ir::bt::verify(&timed.pop, &timed.stn, &bt));
     let refinements = crate::codegen::refinements(kb, interner, &timed.pop)?;
     if let Some(host) = host {
         crate::codegen::check_host_profile(kb, interner, &timed.pop, &refinements, host.name, host.actions)?;
     }
-    let module = crate::codegen::generate(kb, interner, db, plan, &timed.pop, &timed.stn, &bt, &refinements);
+    let module = super::timing::time(
+        "codegen",
+        || crate::codegen::generate(kb, interner, db, plan, &timed.pop, &timed.stn, &bt, &refinements),
+        |module| format!("{} nodes, {} bytes", module.nodes.len(), module.encode().len()),
+    );
     // The loader's verifier is the codegen's verifier: what it writes must load back.
     super::verify_after("codegen", || match kbvm::bytecode::Module::decode(&module.encode()) {
         Ok(decoded) if decoded == module => Ok(()),

@@ -1,6 +1,7 @@
 //! The front end: load the files (and the standard library a KB relies on), lower them to
 //! the resolved KB (HIR) and check it.
 
+use crate::diag::plural;
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Kb};
@@ -34,7 +35,11 @@ pub struct Frontend {
 pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLoader) -> (Frontend, Diagnostics) {
     let mut interner = Interner::new();
     let mut diags = Diagnostics::new();
-    let user = load::load(roots, db, &mut interner, loader, &mut diags);
+    let user = super::timing::time(
+        "parse",
+        || load::load(roots, db, &mut interner, loader, &mut diags),
+        |loaded| format!("{}, {}", plural(loaded.files.len(), "file"), plural(loaded.order.len(), "clause")),
+    );
     let mut declares_actions = false;
     let mut declares_problems = false;
     let mut declares_ll_actions = false;
@@ -71,10 +76,25 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
         let std = load::load(&[arms_file, std_file], db, &mut interner, &mut NoIncludes, &mut diags);
         prepend(std, user)
     };
-    let mut kb = lower::lower(&loaded, db, &mut interner, &mut diags);
+    let mut kb = super::timing::time(
+        "hir",
+        || lower::lower(&loaded, db, &mut interner, &mut diags),
+        |kb| {
+            let (actions, problems) = (plural(kb.actions.len(), "action"), plural(kb.problems.len(), "problem"));
+            format!("{actions}, {problems}, {}", plural(kb.mappings.len(), "mapping"))
+        },
+    );
     kb.uses_std_domain = uses_std_domain;
     verify_hir(&kb, db, &interner);
-    check::check(&kb, &interner, &mut diags);
+    let before = (diags.error_count(), diags.len());
+    super::timing::time(
+        "check",
+        || {
+            check::check(&kb, &interner, &mut diags);
+            (diags.error_count() - before.0, diags.len() - before.1)
+        },
+        |(errors, all)| format!("{}, {}", plural(*errors, "error"), plural(all - errors, "other finding")),
+    );
     diags.sort_by_position();
     diags.cap_repeats(MAX_REPEATS);
     (Frontend { interner, loaded, kb }, diags)

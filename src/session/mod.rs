@@ -29,6 +29,7 @@
 mod backend;
 mod frontend;
 mod temporal;
+pub mod timing;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -478,7 +479,18 @@ impl Session {
         self.grow();
         let kb = &self.frontend.kb;
         self.tasks[problem].get_or_insert_with(|| {
-            let task = crate::passes::task::build(kb, problem);
+            let task = timing::time(
+                "task",
+                || crate::passes::task::build(kb, problem),
+                |task| {
+                    format!(
+                        "{} schemas, {} initial facts, {} goal literals",
+                        task.schemas.len(),
+                        task.init.len(),
+                        task.goal.len()
+                    )
+                },
+            );
             verify_after("task", || crate::ir::task::verify(&task));
             task
         })
@@ -498,7 +510,17 @@ impl Session {
         let task = self.tasks[problem].as_mut().expect("built above");
         let mut scorer = ReassignedMakespan { kb, interner, program: &program, epsilon: settings.epsilon };
         let scorer = settings.scored().then_some(&mut scorer as &mut dyn planner::Score);
-        let outcome = planner::search_scored(kb, interner, task, &options, scorer, progress);
+        let outcome = timing::time(
+            "search",
+            || planner::search_scored(kb, interner, task, &options, scorer, progress),
+            |outcome| {
+                let found = match &outcome.result {
+                    Ok(plan) => format!("a plan of {} snap actions", plan.steps.len()),
+                    Err(_) => "no plan".to_string(),
+                };
+                format!("{found}; {}", stats_line(&outcome.stats))
+            },
+        );
         let found = match outcome.result {
             Ok(first) => {
                 let mut plans = vec![first];
@@ -716,7 +738,14 @@ impl Session {
             ..Default::default()
         };
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
-        let arm = crate::passes::refine::refine(kb, interner, &program, plan, arm_problem, budget)?;
+        let arm = timing::time(
+            "refine",
+            || crate::passes::refine::refine(kb, interner, &program, plan, arm_problem, budget),
+            |refined| match refined {
+                Ok(arm) => format!("{} arm-level snap actions", arm.plan.steps.len()),
+                Err(_) => "does not refine".to_string(),
+            },
+        )?;
         verify_after("refine", || plan::verify_arm(kb, plan, &arm));
         Ok(arm)
     }
@@ -785,11 +814,20 @@ impl Session {
     pub fn validate(&mut self, problem: usize, steps: &[crate::validate::PlanStep]) -> crate::validate::Verdict {
         let program = self.program(problem);
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
-        let verdict = if steps.first().is_some_and(|s| s.timing.is_some()) {
-            crate::validate::validate_timed(kb, interner, &program, problem, steps)
-        } else {
-            crate::validate::validate(kb, interner, &program, problem, steps)
-        };
+        let verdict = timing::time(
+            "validate",
+            || {
+                if steps.first().is_some_and(|s| s.timing.is_some()) {
+                    crate::validate::validate_timed(kb, interner, &program, problem, steps)
+                } else {
+                    crate::validate::validate(kb, interner, &program, problem, steps)
+                }
+            },
+            |verdict| {
+                let found = if verdict.diagnostics.has_errors() { "invalid" } else { "valid" };
+                format!("{found}, {} steps", steps.len())
+            },
+        );
         self.diagnostics.extend(verdict.diagnostics.clone());
         verdict
     }

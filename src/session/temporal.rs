@@ -42,19 +42,38 @@ pub(crate) fn schedule(
 ) -> Option<Timed> {
     use crate::ir::{pop, schedule, stn};
     use crate::passes;
-    let mut pop = passes::pop::build(kb, interner, plan);
-    if let Some(arm) = arm {
-        passes::pop::order_by_refinement(&mut pop, arm.origin, arm.high);
-        passes::pop::order_units(&mut pop, arm.units);
-    }
+    let pop = super::timing::time(
+        "pop",
+        || {
+            let mut pop = passes::pop::build(kb, interner, plan);
+            if let Some(arm) = arm {
+                passes::pop::order_by_refinement(&mut pop, arm.origin, arm.high);
+                passes::pop::order_units(&mut pop, arm.units);
+            }
+            pop
+        },
+        |pop| format!("{} steps, {} orderings", pop.steps.len(), pop.orderings.len()),
+    );
     super::verify_after("pop", || pop::verify(kb, &pop));
     let errors_before = diags.error_count();
-    let stn = passes::stn::build(kb, interner, program, &pop, epsilon, diags);
+    let stn = super::timing::time(
+        "stn",
+        || passes::stn::build(kb, interner, program, &pop, epsilon, diags),
+        |stn| format!("{} time points, {} constraints", stn.graph.node_count(), stn.graph.edge_count()),
+    );
     super::verify_after("stn", || stn::verify(&pop, &stn));
     if diags.error_count() > errors_before {
         return None;
     }
-    match passes::schedule::solve(&stn) {
+    let solved = super::timing::time(
+        "schedule",
+        || passes::schedule::solve(&stn),
+        |solved| match solved {
+            Ok(schedule) => format!("makespan {}", crate::ir::stn::format_time(schedule.makespan)),
+            Err(_) => "a negative cycle".to_string(),
+        },
+    );
+    match solved {
         Ok(schedule) => {
             super::verify_after("schedule", || schedule::verify(&pop, &schedule));
             Some(Timed { pop, stn, schedule })
@@ -76,6 +95,25 @@ const REASSIGN_ROUNDS: usize = 4;
 /// [`REASSIGN_ROUNDS`] times. Returns the plan and schedule kept (the given ones when nothing
 /// was shorter).
 pub(crate) fn reassign(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    task: &mut crate::ir::task::Task,
+    plan: crate::ir::plan::Plan,
+    timed: Timed,
+) -> (crate::ir::plan::Plan, Timed) {
+    let before = timed.schedule.makespan;
+    super::timing::time(
+        "reassign",
+        || reassign_rounds(kb, interner, program, task, plan, timed),
+        |(_, timed)| {
+            let (from, to) = (before, timed.schedule.makespan);
+            format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
+        },
+    )
+}
+
+fn reassign_rounds(
     kb: &Kb,
     interner: &Interner,
     program: &crate::engine::Program,
