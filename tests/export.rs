@@ -356,6 +356,7 @@ fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
         std::fs::write(&path, rung.source()).expect("writable");
         cases.push((vec![path.display().to_string()], "k-ladder"));
     }
+    let mut fixed_minimum = 0;
     for (i, (kb, dir)) in cases.iter().enumerate() {
         let kb: Vec<&str> = kb.iter().map(String::as_str).collect();
         for (j, extra) in [&[][..], &["--no-negative-preconditions"][..]].iter().enumerate() {
@@ -364,7 +365,27 @@ fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
         }
         let exported = export(&kb, &format!("{dir}-{i}-kbc"), &["--with-plan"]);
         kairos_accepts_kbc_plan(&kb, &exported);
+        // With every duration fixed at its minimum, kbc's plan is scheduled that way; where
+        // its order needs a longer one, the export says so instead of writing a wrong plan.
+        let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{dir}-{i}-min"));
+        let _ = std::fs::remove_dir_all(&out);
+        let output = Command::new(env!("CARGO_BIN_EXE_kbc"))
+            .args(["export", "pddl", "-q", "--durations", "min", "--with-plan", "-o"])
+            .arg(&out)
+            .args(&kb)
+            .output()
+            .expect("kbc runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        match output.status.code() {
+            Some(0) => {
+                kairos_accepts_kbc_plan(&kb, &Exported { dir: out, names: serde_json::Value::Null });
+                fixed_minimum += 1;
+            }
+            Some(1) => assert!(stderr.contains("no schedule with every duration at its minimum"), "{kb:?}: {stderr}"),
+            other => panic!("{kb:?}: exit {other:?}: {stderr}"),
+        }
     }
+    assert!(fixed_minimum > 0, "no plan could be written with durations at their minimum");
 }
 
 #[test]
@@ -378,4 +399,74 @@ fn the_names_file_leaves_nothing_unmapped() {
     assert_eq!(grip["start"].as_str(), Some("grip_start(?a, ?b)"));
     assert_eq!(grip["end"].as_str(), Some("grip_end(?a, ?b)"));
     assert!(Path::new(&exported.dir.join("problem.pddl")).exists());
+}
+
+/// unified-planning (`pip install unified-planning`) reads each export and its own validator
+/// runs the plan: `tests/support/up_validate.py`, one verdict line per (directory, plan).
+fn up_validate(cases: &[(PathBuf, PathBuf)]) -> Vec<String> {
+    let mut command = Command::new("python3");
+    command.arg("tests/support/up_validate.py");
+    for (dir, plan) in cases {
+        command.arg(dir.join("domain.pddl")).arg(dir.join("problem.pddl")).arg(plan);
+    }
+    let output = command.output().expect("python3 runs");
+    let verdicts: Vec<String> = String::from_utf8_lossy(&output.stdout).lines().map(str::to_string).collect();
+    assert_eq!(verdicts.len(), cases.len(), "one verdict per plan: {}", String::from_utf8_lossy(&output.stderr));
+    verdicts
+}
+
+fn unified_planning() -> bool {
+    Command::new("python3").args(["-c", "import unified_planning"]).output().is_ok_and(|o| o.status.success())
+}
+
+/// unified-planning reads only closed duration intervals or fixed durations, and wants every
+/// numeric fluent defined: it reads `--durations bounded` (no maximum written as a large one,
+/// a duration that varies as one action per duration, no numeric fluents). Its validator
+/// accepts kbc's timed plans, and rejects one whose move starts before its grip ends.
+#[test]
+fn unified_planning_reads_the_export_and_validates_kbc_plans() {
+    if !unified_planning() {
+        eprintln!("skipped: unified-planning is not installed (pip install unified-planning); .ci/run installs it");
+        return;
+    }
+    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-up-ladder");
+    std::fs::create_dir_all(&ladder_dir).expect("writable");
+    let mut kbs: Vec<String> = vec!["examples/02_llm_stacking/test_case.pl".into()];
+    // Every family's small rungs (unified-planning grounds the problem in Python: seconds each).
+    for rung in kbc::ladder::all().into_iter().filter(|r| r.blocks <= 4 || r.name().starts_with("grid_b06")) {
+        let path = ladder_dir.join(format!("{}.pl", rung.name()));
+        std::fs::write(&path, rung.source()).expect("writable");
+        kbs.push(path.display().to_string());
+    }
+    let mut cases = Vec::new();
+    for (i, kb) in kbs.iter().enumerate() {
+        let variants: &[&[&str]] = if i == 0 { &[&[], &["--no-negative-preconditions"]] } else { &[&[]] };
+        for (j, extra) in variants.iter().enumerate() {
+            let args: Vec<&str> =
+                ["--durations", "bounded", "--with-plan"].into_iter().chain(extra.iter().copied()).collect();
+            let exported = export(&[kb.as_str()], &format!("up-{i}-{j}"), &args);
+            let plan = exported.dir.join("plan.pddl");
+            cases.push((exported.dir, plan));
+        }
+    }
+    // The negative control: the first move starts at the instant its block's grip starts.
+    let exported =
+        export(&["examples/02_llm_stacking/test_case.pl"], "up-broken", &["--durations", "bounded", "--with-plan"]);
+    let plan = std::fs::read_to_string(exported.dir.join("plan.pddl")).expect("plan.pddl");
+    let mut lines: Vec<String> = plan.lines().map(str::to_string).collect();
+    let moved = lines.iter().position(|l| l.contains("(move_block")).expect("a move");
+    lines[moved] = format!("0.000:{}", lines[moved].split_once(':').expect("a time").1);
+    let broken = exported.dir.join("broken.pddl");
+    std::fs::write(&broken, lines.join("\n") + "\n").expect("writable");
+    cases.push((exported.dir, broken));
+    let verdicts = up_validate(&cases);
+    let (control, verdicts) = verdicts.split_last().expect("the control's verdict");
+    assert!(control.starts_with("INVALID"), "a move during its grip must be invalid: {control}");
+    let failures: Vec<String> = cases
+        .iter()
+        .zip(verdicts)
+        .filter(|(_, verdict)| *verdict != "VALID")
+        .map(|((dir, _), verdict)| format!("{}: {verdict}", dir.display()))
+        .collect();
+    assert!(failures.is_empty(), "unified-planning rejects:\n{}", failures.join("\n"));
 }

@@ -64,8 +64,12 @@ pub(super) struct PddlArgs {
 enum DurationsArg {
     /// `[min, max]` as `(and (>= ?duration min) (<= ?duration max))`.
     Exact,
-    /// `(= ?duration min)`.
+    /// `(= ?duration min)`; `--with-plan` then schedules kbc's plan with every duration at
+    /// its minimum (an error when its order needs a longer one).
     Min,
+    /// As `exact`, with no maximum written as 1,000,000 time units: closed intervals only,
+    /// for tools that read nothing else (unified-planning).
+    Bounded,
 }
 
 pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
@@ -78,6 +82,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         durations: match args.durations {
             DurationsArg::Exact => Durations::Exact,
             DurationsArg::Min => Durations::Min,
+            DurationsArg::Bounded => Durations::Bounded,
         },
         limit: args.limit,
     };
@@ -95,7 +100,30 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         let names: serde_json::Value = serde_json::from_str(&exported.names).expect("the export writes valid JSON");
         let (kb, interner) = (session.kb(), session.interner());
         let timed = &planned.timed;
-        match pddl::plan_to_pddl(&names, kb, interner, planned.plan(), &timed.pop, &timed.schedule) {
+        // With durations fixed to their minimum, the plan is scheduled again that way: an
+        // action that waited longer than its minimum starts later instead.
+        let fixed;
+        let (stn, schedule) = match options.durations {
+            Durations::Exact | Durations::Bounded => (&timed.stn, &timed.schedule),
+            Durations::Min => match session.minimum_duration_schedule(timed) {
+                Some(scheduled) => {
+                    fixed = scheduled;
+                    (&fixed.0, &fixed.1)
+                }
+                None => {
+                    session.push(
+                        Diagnostic::error(
+                            crate::diag::codes::EXPORT_INEXPRESSIBLE,
+                            "kbc's plan has no schedule with every duration at its minimum",
+                        )
+                        .with_note("some action must last longer than its minimum for the plan's order to hold")
+                        .with_help("export with `--durations exact` (the default) to write the plan"),
+                    );
+                    return fail(&session);
+                }
+            },
+        };
+        match pddl::plan_to_pddl(&names, kb, interner, planned.plan(), &timed.pop, stn, schedule) {
             Ok(text) => Some(text),
             Err(why) => {
                 session.push(Diagnostic::error(

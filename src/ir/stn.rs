@@ -139,6 +139,21 @@ impl Stn {
         self.graph.node_count() <= 1
     }
 
+    /// The network with every durative action's duration fixed to its minimum, as a planner
+    /// reads `(= ?duration min)` (`kbc export pddl --durations min`): each minimum-duration
+    /// constraint gets the maximum that matches it. `durations` keeps the KB's bounds.
+    pub fn with_minimum_durations(&self) -> Stn {
+        let mut fixed = self.clone();
+        for edge in self.graph.edge_references() {
+            if let EdgeKind::MinDuration { start, source } = edge.weight().kind {
+                // The minimum is the edge end -> start of weight -min.
+                let kind = EdgeKind::MaxDuration { start, source };
+                fixed.graph.add_edge(edge.target(), edge.source(), Edge { weight: -edge.weight().weight, kind });
+            }
+        }
+        fixed
+    }
+
     /// The edge's endpoints.
     pub fn endpoints(&self, edge: EdgeIndex) -> (TimePoint, TimePoint) {
         let (a, b) = self.graph.edge_endpoints(edge).expect("an edge of this graph");

@@ -16,9 +16,14 @@
 //!   a plan needs is missing);
 //! - `duration/3` becomes the action's duration: a number when it is the same for every
 //!   instance, else a function over the name arguments it depends on, with a value per
-//!   reachable instance; `[min, max]` becomes `(and (>= ?duration min) (<= ?duration max))`,
-//!   `(>= ?duration min)` for an `inf` maximum, or `(= ?duration min)` with
-//!   [`Durations::Min`] for planners without duration inequalities;
+//!   reachable instance. With [`Durations::Bounded`] there are no numeric fluents: the action
+//!   is written once per distinct duration (`move_block_1_1`, `move_block_1_2`, ...), each
+//!   with a static condition (`duration_move_block_1 ?x1 ?y1 ?x2 ?y2`) whose facts are the
+//!   reachable instances of that duration (unified-planning wants every function defined
+//!   everywhere; LPG's local search does worse on the copies, so the others keep functions).
+//!   `[min, max]` becomes `(and (>= ?duration min) (<= ?duration max))`, `(>= ?duration min)`
+//!   for an `inf` maximum (with [`Durations::Bounded`], [`BOUNDED_MAX`] instead), or
+//!   `(= ?duration min)` with [`Durations::Min`] for planners without duration inequalities;
 //! - with `negative_preconditions` off, every predicate an Invalid literal reads gets a
 //!   complement `not_p`, kept true exactly when `p` is false by every effect on `p`, and an
 //!   existential negative condition becomes one complement literal per value its variables
@@ -54,7 +59,15 @@ pub enum Durations {
     /// The minimum only, `(= ?duration min)`: what a makespan-minimising planner picks anyway,
     /// for planners without duration inequalities.
     Min,
+    /// As [`Durations::Exact`], but no maximum is written as [`BOUNDED_MAX`], so every
+    /// duration is a closed interval, and a duration that varies is one action per duration
+    /// rather than a numeric fluent: what unified-planning reads.
+    Bounded,
 }
+
+/// The maximum [`Durations::Bounded`] writes for a duration with none, in KB time units:
+/// longer than any plan kbc's budgets let it find.
+pub const BOUNDED_MAX: f64 = 1_000_000.0;
 
 /// What to write.
 #[derive(Clone, Copy, Debug)]
@@ -220,6 +233,9 @@ struct PddlAction<'s> {
     start: &'s Schema,
     start_index: usize,
     end: Option<(&'s Schema, usize)>,
+    /// For a durative action whose duration varies: which of its duration classes
+    /// ([`DurationSpec::classes`]) this copy is for.
+    class: Option<usize>,
 }
 
 /// A schema's variables as PDDL variables: the name arguments' own names, `None` for the
@@ -537,7 +553,13 @@ impl Exporter<'_> {
         for (index, schema) in task.schemas.iter().enumerate() {
             match schema.snap {
                 Snap::Instant => {
-                    actions.push(PddlAction { name: String::new(), start: schema, start_index: index, end: None });
+                    actions.push(PddlAction {
+                        name: String::new(),
+                        start: schema,
+                        start_index: index,
+                        end: None,
+                        class: None,
+                    });
                 }
                 Snap::Start => {
                     let ends: Vec<(usize, &Schema)> = task
@@ -548,7 +570,13 @@ impl Exporter<'_> {
                         .collect();
                     for (end_index, end) in ends {
                         let end = Some((end, end_index));
-                        actions.push(PddlAction { name: String::new(), start: schema, start_index: index, end });
+                        actions.push(PddlAction {
+                            name: String::new(),
+                            start: schema,
+                            start_index: index,
+                            end,
+                            class: None,
+                        });
                     }
                 }
                 Snap::End => {}
@@ -630,9 +658,48 @@ impl Exporter<'_> {
                 .filter(|i| task.schemas[i.schema].snap == Snap::Start && task.schemas[i.schema].base == base)
                 .filter_map(|i| name_args(&task.schemas[i.schema], &i.bindings))
                 .collect();
-            let spec = self.duration_spec(base, &starts, &mut machine)?;
+            let mut spec = self.duration_spec(base, &starts, &mut machine)?;
+            // Duration classes where a numeric function cannot say it exactly (some instances
+            // with a maximum, some without) or the reader wants none.
+            let mixed = spec.values.values().any(|(_, max)| max.is_none())
+                && spec.values.values().any(|(_, max)| max.is_some());
+            let classes = match self.options.durations {
+                Durations::Bounded => true,
+                Durations::Exact => mixed,
+                Durations::Min => false,
+            };
+            if let Some((name, _)) = &spec.function
+                && classes
+            {
+                // One static predicate per distinct duration, named after the function.
+                let mut bounds: Vec<(f64, Option<f64>)> = spec.values.values().copied().collect();
+                bounds.sort_by(|a, b| {
+                    a.0.total_cmp(&b.0).then(a.1.unwrap_or(f64::INFINITY).total_cmp(&b.1.unwrap_or(f64::INFINITY)))
+                });
+                bounds.dedup();
+                spec.classes = bounds
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, b)| (b, static_names.fresh(&format!("{name}_{}", k + 1))))
+                    .collect();
+            }
             durations.insert(base, spec);
         }
+        // A durative action whose duration varies: one copy per duration class.
+        let mut expanded: Vec<PddlAction<'_>> = Vec::new();
+        for action in actions {
+            let classes = action.end.and_then(|_| durations.get(&action.start.base)).map_or(0, |d| d.classes.len());
+            if classes == 0 {
+                expanded.push(action);
+                continue;
+            }
+            for k in 0..classes {
+                let name = renamed.fresh(&format!("{}_{}", action.name, k + 1));
+                let (start, start_index, end) = (action.start, action.start_index, action.end);
+                expanded.push(PddlAction { name, start, start_index, end, class: Some(k) });
+            }
+        }
+        let actions = expanded;
 
         let mut domain = String::new();
         let domain_name = format!("kbc-{problem_name}");
@@ -649,10 +716,10 @@ impl Exporter<'_> {
             requirements.push(":existential-preconditions");
         }
         requirements.dedup();
-        if durations.values().any(|d| d.function.is_some()) {
+        if durations.values().any(DurationSpec::is_function) {
             requirements.push(":numeric-fluents");
         }
-        if self.options.durations == Durations::Exact && durations.values().any(DurationSpec::is_range) {
+        if self.options.durations != Durations::Min && durations.values().any(DurationSpec::has_inequality) {
             requirements.push(":duration-inequalities");
         }
         requirements.sort_unstable();
@@ -673,24 +740,25 @@ impl Exporter<'_> {
         for (name, vars) in statics.iter().flatten() {
             preds.push((name.clone(), vars.len()));
         }
+        let mut specs: Vec<&DurationSpec> = durations.values().collect();
+        specs.sort_by(|a, b| a.function.cmp(&b.function));
+        for spec in &specs {
+            if let Some((_, positions)) = &spec.function {
+                preds.extend(spec.classes.iter().map(|(_, name)| (name.clone(), positions.len())));
+            }
+        }
         for (name, arity) in &preds {
             let args: String = (1..=*arity).map(|i| format!(" ?x{i}")).collect();
             writeln!(domain, "    ({name}{args})").unwrap();
         }
         writeln!(domain, "  )").unwrap();
-        let functions: Vec<&DurationSpec> =
-            actions.iter().filter_map(|a| a.end.and(durations.get(&a.start.base))).collect();
-        let mut declared = BTreeSet::new();
         let mut function_lines = Vec::new();
-        for spec in functions {
-            if let Some((name, positions)) = &spec.function
-                && declared.insert(name.clone())
-            {
-                let args: String = (1..=positions.len()).map(|i| format!(" ?x{i}")).collect();
-                function_lines.push(format!("    ({name}{args})"));
-                if spec.is_range() && self.options.durations == Durations::Exact {
-                    function_lines.push(format!("    ({name}_max{args})"));
-                }
+        for spec in specs.iter().filter(|s| s.is_function()) {
+            let (name, positions) = spec.function.as_ref().expect("a function");
+            let args: String = (1..=positions.len()).map(|i| format!(" ?x{i}")).collect();
+            function_lines.push(format!("    ({name}{args})"));
+            if spec.writes_max(self.options.durations) {
+                function_lines.push(format!("    ({name}_max{args})"));
             }
         }
         if !function_lines.is_empty() {
@@ -742,15 +810,19 @@ impl Exporter<'_> {
             let args: Vec<String> = values.iter().map(|&c| self.object(c)).collect();
             init.push(if args.is_empty() { format!("({name})") } else { format!("({name} {})", args.join(" ")) });
         }
-        let mut specs: Vec<&DurationSpec> = durations.values().collect();
-        specs.sort_by(|a, b| a.function.cmp(&b.function));
         for spec in specs {
             let Some((name, _)) = &spec.function else { continue };
-            for (args, (min, max)) in &spec.values {
+            let writes_max = spec.writes_max(self.options.durations);
+            for (args, bounds) in &spec.values {
                 let args: Vec<String> = args.iter().map(|&c| self.object(c)).collect();
-                init.push(format!("(= ({name} {}) {})", args.join(" "), number(*min)));
-                if spec.is_range() && self.options.durations == Durations::Exact {
-                    let max = max.expect("a range has a finite maximum here");
+                if !spec.is_function() {
+                    let Some((_, class)) = spec.classes.iter().find(|(b, _)| b == bounds) else { continue };
+                    init.push(format!("({class} {})", args.join(" ")));
+                    continue;
+                }
+                init.push(format!("(= ({name} {}) {})", args.join(" "), number(bounds.0)));
+                if writes_max {
+                    let max = bounds.1.expect("a function with a maximum has one for every instance");
                     init.push(format!("(= ({name}_max {}) {})", args.join(" "), number(max)));
                 }
             }
@@ -933,6 +1005,11 @@ impl Exporter<'_> {
                     static_vars.iter().map(|&v| vars[v as usize].as_deref().unwrap_or("?_")).collect();
                 local.push(if args.is_empty() { format!("({name})") } else { format!("({name} {})", args.join(" ")) });
             }
+            if schema.snap == Snap::Start
+                && let Some(k) = action.class
+            {
+                local.push(self.duration_class_condition(&durations[&schema.base], k, schema, vars));
+            }
             if durative {
                 conditions.extend(local.into_iter().map(|c| format!("({when} {c})")));
                 self.effects(schema, vars, Some(when), &mut effects);
@@ -956,7 +1033,14 @@ impl Exporter<'_> {
             writeln!(text, "  (:durative-action {}", action.name).unwrap();
             writeln!(text, "    :parameters ({})", parameters.join(" ")).unwrap();
             let spec = &durations[&action.start.base];
-            writeln!(text, "    :duration {}", self.duration_text(spec, action.start, &start_vars)).unwrap();
+            if spec.is_function() {
+                writeln!(text, "    :duration {}", self.function_duration_text(spec, action.start, &start_vars))
+                    .unwrap();
+            } else {
+                let (min, max) = spec.bounds(action.class);
+                writeln!(text, "    :duration {}", self.duration_text(min, max)).unwrap();
+                entry.insert("duration".into(), serde_json::json!([min, max]));
+            }
             entry.insert("start".into(), serde_json::json!(start_name));
             entry.insert("end".into(), serde_json::json!(end_name));
         } else {
@@ -994,36 +1078,56 @@ impl Exporter<'_> {
         }
     }
 
-    fn duration_text(&self, spec: &DurationSpec, start: &Schema, vars: &VarNames) -> String {
-        let exact = self.options.durations == Durations::Exact;
-        let (min, max) = match &spec.function {
-            None => {
-                let (min, max) = spec.values.values().next().copied().unwrap_or((1.0, Some(1.0)));
-                (number(min), max.map(number))
-            }
-            Some((name, positions)) => {
-                let args: Vec<&str> = match &start.name {
-                    Pattern::Compound(_, args) => positions
-                        .iter()
-                        .map(|&p| match &args[p] {
-                            Pattern::Var(v) => vars[*v as usize].as_deref().unwrap_or("?_"),
-                            _ => "?_",
-                        })
-                        .collect(),
-                    _ => Vec::new(),
-                };
-                let call = format!("({name} {})", args.join(" "));
-                let max = if spec.is_range() { Some(format!("({name}_max {})", args.join(" "))) } else { None };
-                let max = if spec.fixed() { Some(call.clone()) } else { max };
-                (call, max)
-            }
+    /// The `:duration` of an action whose duration is `[min, max]` (`None`: no maximum).
+    fn duration_text(&self, min: f64, max: Option<f64>) -> String {
+        let exact = self.options.durations != Durations::Min;
+        let max = match self.options.durations {
+            Durations::Bounded => Some(max.unwrap_or(BOUNDED_MAX.max(min))),
+            _ => max,
         };
         match max {
-            Some(max) if max == min || !exact => format!("(= ?duration {min})"),
-            Some(max) => format!("(and (>= ?duration {min}) (<= ?duration {max}))"),
-            None if exact => format!("(>= ?duration {min})"),
-            None => format!("(= ?duration {min})"),
+            Some(max) if max == min || !exact => format!("(= ?duration {})", number(min)),
+            Some(max) => format!("(and (>= ?duration {}) (<= ?duration {}))", number(min), number(max)),
+            None if exact => format!("(>= ?duration {})", number(min)),
+            None => format!("(= ?duration {})", number(min)),
         }
+    }
+
+    /// The `:duration` of an action whose duration is a numeric function of its name's
+    /// arguments (with a second function for the maximum when there is one).
+    fn function_duration_text(&self, spec: &DurationSpec, start: &Schema, vars: &VarNames) -> String {
+        let (name, _) = spec.function.as_ref().expect("a function");
+        let args = self.duration_args(spec, start, vars).join(" ");
+        let min = format!("({name} {args})");
+        let fixed = spec.values.values().all(|(min, max)| *max == Some(*min));
+        if fixed || self.options.durations == Durations::Min {
+            format!("(= ?duration {min})")
+        } else if spec.writes_max(self.options.durations) {
+            format!("(and (>= ?duration {min}) (<= ?duration ({name}_max {args})))")
+        } else {
+            format!("(>= ?duration {min})")
+        }
+    }
+
+    /// The PDDL variables of the name arguments `spec`'s duration depends on.
+    fn duration_args<'v>(&self, spec: &DurationSpec, start: &Schema, vars: &'v VarNames) -> Vec<&'v str> {
+        let positions = spec.function.as_ref().map(|(_, p)| p.as_slice()).unwrap_or_default();
+        match &start.name {
+            Pattern::Compound(_, args) => positions
+                .iter()
+                .map(|&p| match &args[p] {
+                    Pattern::Var(v) => vars[*v as usize].as_deref().unwrap_or("?_"),
+                    _ => "?_",
+                })
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The condition that picks duration class `k` of `spec` for a start schema's instance:
+    /// the class's static predicate over the name arguments the duration depends on.
+    fn duration_class_condition(&self, spec: &DurationSpec, k: usize, start: &Schema, vars: &VarNames) -> String {
+        format!("({} {})", spec.classes[k].1, self.duration_args(spec, start, vars).join(" "))
     }
 
     /// The durations of a durative base over its reachable starts.
@@ -1090,7 +1194,7 @@ impl Exporter<'_> {
             let single = values.values().next().copied().unwrap_or((1.0, Some(1.0)));
             let mut one = BTreeMap::new();
             one.insert(Vec::new(), single);
-            return Some(DurationSpec { function: None, values: one });
+            return Some(DurationSpec { function: None, values: one, classes: Vec::new() });
         }
         // The name positions the bounds depend on: drop each position the bounds stay a
         // function of the others without.
@@ -1113,7 +1217,7 @@ impl Exporter<'_> {
             projected.insert(kept.iter().map(|&p| args[p]).collect(), bounds);
         }
         let name = self.object_names.fresh(&format!("duration_{}", self.interner.resolve(base)));
-        Some(DurationSpec { function: Some((name, kept)), values: projected })
+        Some(DurationSpec { function: Some((name, kept)), values: projected, classes: Vec::new() })
     }
 }
 
@@ -1123,18 +1227,38 @@ struct DurationSpec {
     function: Option<(String, Vec<usize>)>,
     /// Bounds per tuple of the kept positions (one entry, with no arguments, for a constant).
     values: BTreeMap<Vec<ConstId>, (f64, Option<f64>)>,
+    /// For a function: its distinct bounds, shortest first, each with the static predicate
+    /// that holds for the tuples of that duration.
+    classes: Vec<((f64, Option<f64>), String)>,
 }
 
 impl DurationSpec {
-    /// Whether some instance has a finite maximum above its minimum.
-    fn is_range(&self) -> bool {
-        self.values.values().any(|(min, max)| max.is_some_and(|m| m > *min))
-            && self.values.values().all(|(_, max)| max.is_some())
+    /// The bounds of duration class `class`, or the one value.
+    fn bounds(&self, class: Option<usize>) -> (f64, Option<f64>) {
+        match class {
+            Some(k) => self.classes[k].0,
+            None => self.values.values().next().copied().unwrap_or((1.0, Some(1.0))),
+        }
     }
 
-    /// Whether every instance has max = min.
-    fn fixed(&self) -> bool {
-        self.values.values().all(|(min, max)| *max == Some(*min))
+    /// Whether the duration is written as a numeric function: it varies, and is not split
+    /// into duration classes.
+    fn is_function(&self) -> bool {
+        self.function.is_some() && self.classes.is_empty()
+    }
+
+    /// Whether a function's maximum is written as a second function: every instance has a
+    /// finite maximum, some above its minimum, and the durations are written exactly.
+    fn writes_max(&self, durations: Durations) -> bool {
+        durations != Durations::Min
+            && self.values.values().all(|(_, max)| max.is_some())
+            && self.values.values().any(|(min, max)| max.is_some_and(|m| m > *min))
+    }
+
+    /// Whether some instance's duration is not one number: a maximum above its minimum, or
+    /// none (written as duration inequalities in [`Durations::Exact`]).
+    fn has_inequality(&self) -> bool {
+        self.values.values().any(|(min, max)| max.is_none_or(|m| m > *min))
     }
 }
 
@@ -1309,6 +1433,7 @@ pub fn plan_to_pddl(
     interner: &Interner,
     plan: &crate::ir::plan::Plan,
     pop: &crate::ir::pop::Pop,
+    stn: &crate::ir::stn::Stn,
     schedule: &crate::ir::schedule::Schedule,
 ) -> Result<String, String> {
     let no_vars = VarTable::default();
@@ -1322,11 +1447,20 @@ pub fn plan_to_pddl(
         let start = &plan.steps[timed.step];
         let end = timed.end.map(|e| &plan.steps[e]);
         let shown = hir::term_to_string(interner, &timed.name, &no_vars);
+        // The action of these schemas; for a duration that varies, the copy of this step's
+        // duration (names.json gives each durative action's `[min, max]`).
+        let bounds = stn.durations.get(timed.step).copied().flatten();
+        let same_duration = |entry: &serde_json::Value| {
+            let Some(bounds) = bounds else { return true };
+            let units = |v: &serde_json::Value| v.as_f64().map(|v| (v * crate::ir::stn::UNITS as f64).round() as i64);
+            units(&entry["duration"][0]) == Some(bounds.min) && units(&entry["duration"][1]) == bounds.max
+        };
         let (name, entry) = actions
             .iter()
             .find(|(_, entry)| {
                 entry["start_schema"].as_u64() == Some(start.action as u64)
                     && entry["end_schema"].as_u64() == end.map(|e| e.action as u64)
+                    && (entry.get("duration").is_none() || same_duration(entry))
             })
             .ok_or_else(|| format!("names.json has no action for `{shown}`"))?;
         let mut words = vec![name.clone()];

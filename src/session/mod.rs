@@ -951,6 +951,18 @@ impl Session {
         temporal::schedule(kb, interner, &program, plan, None, crate::ir::stn::EPSILON, &mut self.diagnostics)
     }
 
+    /// A scheduled plan's network with every duration fixed at its minimum
+    /// ([`crate::ir::stn::Stn::with_minimum_durations`]) and its schedule, or `None` when the
+    /// plan's order needs some action to last longer (`kbc export pddl --durations min`).
+    pub fn minimum_duration_schedule(
+        &self,
+        timed: &Timed,
+    ) -> Option<(crate::ir::stn::Stn, crate::ir::schedule::Schedule)> {
+        let stn = timed.stn.with_minimum_durations();
+        let schedule = crate::passes::schedule::solve(&stn).ok()?;
+        Some((stn, schedule))
+    }
+
     /// The `reassign` pass on a scheduled plan: the plan and schedule kept (the given ones
     /// when no rearrangement is shorter).
     pub fn reassign(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
