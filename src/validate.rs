@@ -39,6 +39,10 @@ pub struct PlanStep {
     /// In a timed plan, when it starts and (for a durative action) how long it lasts, in STN
     /// time (thousandths of a time unit).
     pub timing: Option<(i64, Option<i64>)>,
+    /// The same in millionths of a time unit, as written (`None`: as `timing`). Only the order
+    /// of happenings uses it: other planners separate happenings by less than a thousandth
+    /// (LPG by 0.0002), and rounding would make them simultaneous.
+    pub fine_timing: Option<(i64, Option<i64>)>,
     /// Values of schema variables the name leaves out, by variable name, from a trailing
     /// `% with V = t, ...` comment (`kbc plan` writes one where such a variable reaches an
     /// effect): a schema with a variable of that name applies only with that value.
@@ -48,7 +52,7 @@ pub struct PlanStep {
 impl PlanStep {
     /// A step with only a name.
     pub fn named(name: Term, span: Span) -> PlanStep {
-        PlanStep { name, span, timing: None, with: Vec::new() }
+        PlanStep { name, span, timing: None, fine_timing: None, with: Vec::new() }
     }
 
     /// The steps of an in-memory plan, with the values of their hidden variables, for
@@ -68,6 +72,11 @@ impl PlanStep {
 /// thousandths, rounded to the nearest (kbc keeps times to a thousandth); `None` if it is not
 /// a non-negative decimal number.
 fn parse_time(text: &str) -> Option<i64> {
+    parse_fixed(text, 3)
+}
+
+/// A non-negative decimal number in units of 10^-`decimals`, rounded half up.
+fn parse_fixed(text: &str, decimals: usize) -> Option<i64> {
     let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
     if whole.is_empty() && fraction.is_empty()
         || !whole.bytes().all(|b| b.is_ascii_digit())
@@ -76,18 +85,25 @@ fn parse_time(text: &str) -> Option<i64> {
         return None;
     }
     let whole: i64 = if whole.is_empty() { 0 } else { whole.parse().ok()? };
-    let (kept, rest) = fraction.split_at(fraction.len().min(3));
-    let mut thousandths: i64 = if kept.is_empty() { 0 } else { format!("{kept:0<3}").parse().ok()? };
+    let (kept, rest) = fraction.split_at(fraction.len().min(decimals));
+    let mut parts: i64 = if kept.is_empty() { 0 } else { format!("{kept:0<decimals$}").parse().ok()? };
     if rest.as_bytes().first().is_some_and(|&d| d >= b'5') {
-        thousandths += 1; // round half up on the first digit dropped
+        parts += 1; // round half up on the first digit dropped
     }
-    whole.checked_mul(crate::ir::stn::UNITS)?.checked_add(thousandths)
+    whole.checked_mul(10i64.checked_pow(decimals as u32)?)?.checked_add(parts)
+}
+
+/// A timed line's start and duration: in STN time (thousandths) and in millionths.
+struct LineTimes {
+    time: i64,
+    duration: Option<i64>,
+    fine: (i64, Option<i64>),
 }
 
 /// A line of a timed plan, `0.000: (grip a1 b2) [1.000]`: the start, the action as a term's
 /// text (`grip(a1, b2)`), its offset in the line, and the duration. `None` if the line is
 /// not of that shape.
-fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
+fn timed_line(line: &str) -> Option<(LineTimes, String, usize)> {
     // A `;` comment after the step (outside quotes), as other planners write them.
     let mut quoted = false;
     let end = line
@@ -101,14 +117,16 @@ fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
         .map_or(line.len(), |(i, _)| i);
     let line = line[..end].trim_end();
     let (time, rest) = line.split_once(':')?;
-    let time = parse_time(time.trim())?;
+    let (time, fine_time) = (parse_time(time.trim())?, parse_fixed(time.trim(), 6)?);
     let open = rest.find('(')?;
-    let close = rest.rfind(')')?;
+    let close = matching_paren(rest, open)?;
     let inner = rest.get(open + 1..close)?.trim();
     let after = rest[close + 1..].trim();
-    let duration = match after.strip_prefix('[').and_then(|d| d.strip_suffix(']')) {
-        Some(d) => Some(parse_time(d.trim())?),
-        None if after.is_empty() => None,
+    // LPG-td 1.4 ends its lines with a stray `)` after the duration: `[1.0000])`.
+    let after = after.strip_suffix(')').filter(|a| a.ends_with(']')).unwrap_or(after);
+    let (duration, fine_duration) = match after.strip_prefix('[').and_then(|d| d.strip_suffix(']')) {
+        Some(d) => (Some(parse_time(d.trim())?), Some(parse_fixed(d.trim(), 6)?)),
+        None if after.is_empty() => (None, None),
         None => return None,
     };
     // Split at top-level spaces: arguments may be compound terms written without spaces.
@@ -123,7 +141,27 @@ fn timed_line(line: &str) -> Option<(i64, String, usize, Option<i64>)> {
     let (name, args) = words.split_first()?;
     let text = if args.is_empty() { name.clone() } else { format!("{name}({})", args.join(", ")) };
     let offset = line.len() - rest.len() + open;
-    Some((time, text, offset, duration))
+    Some((LineTimes { time, duration, fine: (fine_time, fine_duration) }, text, offset))
+}
+
+/// The byte index of the `)` that closes the `(` at `open`, outside quoted atoms.
+fn matching_paren(text: &str, open: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    let mut quoted = false;
+    for (i, c) in text[open..].char_indices() {
+        match c {
+            '\'' => quoted = !quoted,
+            '(' if !quoted => depth += 1,
+            ')' if !quoted => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(open + i);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// Reads a plan file: one step per line, optionally numbered and ended by `.`; lines starting
@@ -142,7 +180,7 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
         if trimmed.is_empty() || trimmed.starts_with('%') || trimmed.starts_with(';') {
             continue;
         }
-        if let Some((time, term_text, at, duration)) = timed_line(line.trim_end()) {
+        if let Some((times, term_text, at)) = timed_line(line.trim_end()) {
             let span = Span::new(file, (line_start + at) as u32, (line_start + line.trim_end().len()) as u32);
             if steps.first().is_some_and(|s| s.timing.is_none()) {
                 diags.push(
@@ -153,9 +191,11 @@ pub fn read_plan(file: FileId, text: &str, interner: &mut Interner, diags: &mut 
                 continue;
             }
             match parse_step(&term_text, interner) {
-                Some(name) if name.callable().is_some() => {
-                    steps.push(PlanStep { timing: Some((time, duration)), ..PlanStep::named(name, span) })
-                }
+                Some(name) if name.callable().is_some() => steps.push(PlanStep {
+                    timing: Some((times.time, times.duration)),
+                    fine_timing: Some(times.fine),
+                    ..PlanStep::named(name, span)
+                }),
                 _ => diags.push(
                     Diagnostic::error(codes::BAD_PLAN_FILE, "expected a ground action such as `(grip a1 b2)`")
                         .primary(span, "this action is not ground")
@@ -840,6 +880,8 @@ pub fn validate(kb: &Kb, interner: &Interner, program: &Program, problem: usize,
 /// One event of a timed plan: a snap action at a time.
 struct Event {
     time: i64,
+    /// The time in millionths, as written: the order of happenings.
+    fine: i64,
     /// 0 for an end, 1 for an instantaneous action, 2 for a start: at equal times ends happen
     /// first, as in PDDL 2.1.
     order: u8,
@@ -945,8 +987,12 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
                         return Verdict { diagnostics, applied: 0, plan };
                     }
                 }
-                events.push(Event { time, order: 2, name: start, step: i });
-                events.push(Event { time: time + duration, order: 0, name: end, step: i });
+                let (fine, fine_end) = match step.fine_timing {
+                    Some((t, Some(d))) => (t, t + d),
+                    _ => (time * 1000, (time + duration) * 1000),
+                };
+                events.push(Event { time, fine, order: 2, name: start, step: i });
+                events.push(Event { time: time + duration, fine: fine_end, order: 0, name: end, step: i });
             }
             (Some(_), Some(_), None) => {
                 diagnostics.push(
@@ -955,16 +1001,19 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
                 );
                 return Verdict { diagnostics, applied: 0, plan };
             }
-            _ => events.push(Event { time, order: 1, name: step.name.clone(), step: i }),
+            _ => {
+                let fine = step.fine_timing.map_or(time * 1000, |(t, _)| t);
+                events.push(Event { time, fine, order: 1, name: step.name.clone(), step: i })
+            }
         }
     }
-    events.sort_by_key(|e| (e.time, e.order, e.step));
+    events.sort_by_key(|e| (e.fine, e.order, e.step));
     let mut state = replayer.initial_state();
     let mut at = 0;
     while at < events.len() {
         let group_end = events[at..]
             .iter()
-            .position(|e| (e.time, e.order) != (events[at].time, events[at].order))
+            .position(|e| (e.fine, e.order) != (events[at].fine, events[at].order))
             .map_or(events.len(), |n| at + n);
         let group = &events[at..group_end];
         let mut results = Vec::new();
@@ -1037,5 +1086,19 @@ mod tests {
             [Some(12_000), Some(1_500), Some(1), Some(2), Some(1_234), Some(1_235), Some(500), Some(3_000)]
         );
         assert_eq!(["", ".", "-1", "1e3", "1.2.3"].map(super::parse_time), [None; 5]);
+    }
+
+    #[test]
+    fn an_lpg_line_keeps_its_fine_times_and_loses_its_stray_parenthesis() {
+        let (times, text, at) = super::timed_line("1.0008:   (GRIP_1 A3 B1 N2 N1) [1.0000])").expect("a timed line");
+        assert_eq!(text, "grip_1(a3, b1, n2, n1)");
+        assert_eq!(at, 10, "the action's offset");
+        assert_eq!((times.time, times.duration), (1_001, Some(1_000)));
+        assert_eq!(times.fine, (1_000_800, Some(1_000_000)), "the order of happenings keeps 0.0008");
+        // A parenthesis inside a quoted atom does not end the action; anything else after the
+        // duration is not a timed line.
+        let (_, text, _) = super::timed_line("0: (go 'a)b') [1]").expect("a timed line");
+        assert_eq!(text, "go('a)b')");
+        assert!(super::timed_line("0: (go a) [1] x").is_none());
     }
 }

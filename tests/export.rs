@@ -470,3 +470,66 @@ fn unified_planning_reads_the_export_and_validates_kbc_plans() {
         .collect();
     assert!(failures.is_empty(), "unified-planning rejects:\n{}", failures.join("\n"));
 }
+
+/// LPG-td, the binary the `up-lpg` package ships (`pip install 'setuptools<81' up-lpg`).
+fn lpg() -> Option<PathBuf> {
+    let script = "import os, up_lpg; print(os.path.join(os.path.dirname(up_lpg.__file__), 'lpg'))";
+    let output = Command::new("python3").args(["-c", script]).output().ok()?;
+    let path = PathBuf::from(String::from_utf8_lossy(&output.stdout).trim());
+    (output.status.success() && path.exists()).then_some(path)
+}
+
+/// LPG plans the export (it has no negative conditions and no duration inequalities, so
+/// `--no-negative-preconditions --durations min`), and `kbc validate --names` reads its plan
+/// file exactly as LPG writes it (upper-case names, `;` header, four decimals, happenings
+/// 0.0002 apart, a stray `)` after each duration) and finds it valid on the KB.
+#[test]
+fn plans_lpg_finds_for_the_export_are_valid_on_the_kb() {
+    let Some(lpg) = lpg() else {
+        eprintln!("skipped: LPG is not installed (pip install 'setuptools<81' up-lpg); .ci/run installs it");
+        return;
+    };
+    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-lpg-ladder");
+    std::fs::create_dir_all(&ladder_dir).expect("writable");
+    let mut kbs: Vec<String> = vec!["examples/02_llm_stacking/test_case.pl".into()];
+    // The build and reverse rungs: LPG's local search does not solve the swap rungs (their
+    // blocks must pass through a spare cell) within its limits, on any seed tried.
+    let solvable = |name: &str| !name.starts_with("swap");
+    for rung in kbc::ladder::standard().into_iter().filter(|r| r.blocks <= 4 && solvable(&r.name())) {
+        let path = ladder_dir.join(format!("{}.pl", rung.name()));
+        std::fs::write(&path, rung.source()).expect("writable");
+        kbs.push(path.display().to_string());
+    }
+    let mut failures = Vec::new();
+    for (i, kb) in kbs.iter().enumerate() {
+        let args = ["--no-negative-preconditions", "--durations", "min"];
+        let exported = export(&[kb.as_str()], &format!("lpg-{i}"), &args);
+        let output = Command::new("timeout")
+            .arg("60")
+            .arg(&lpg)
+            .arg("-o")
+            .arg(exported.dir.join("domain.pddl"))
+            .arg("-f")
+            .arg(exported.dir.join("problem.pddl"))
+            .args(["-n", "1", "-seed", "1", "-out"])
+            .arg(exported.dir.join("lpg"))
+            .output()
+            .expect("LPG runs");
+        let plan = exported.dir.join("lpg_1.SOL");
+        if !plan.exists() {
+            failures.push(format!("{kb}: LPG found no plan: {}", String::from_utf8_lossy(&output.stdout)));
+            continue;
+        }
+        let validated = Command::new(env!("CARGO_BIN_EXE_kbc"))
+            .args(["validate", "-q", kb.as_str()])
+            .arg(&plan)
+            .arg("--names")
+            .arg(exported.dir.join("names.json"))
+            .output()
+            .expect("kbc runs");
+        if !validated.status.success() {
+            failures.push(format!("{kb}: kbc rejects LPG's plan:\n{}", String::from_utf8_lossy(&validated.stderr)));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
