@@ -423,7 +423,11 @@ fn write_view(
     let actions = actions.as_slice();
     let record = record_value(sim);
     let page = render::view::html(&render::view::RunView { title, summary, record: &record, actions, gantt_svg });
-    write_output(path, page.as_bytes())
+    write_output(path, page.as_bytes())?;
+    if path.as_os_str() != "-" {
+        super::status(&format!("wrote {}: open it in a browser to watch the run", path.display()));
+    }
+    Ok(())
 }
 
 /// A host over `world` with the faults asked for, their open parts drawn from `seed`.
