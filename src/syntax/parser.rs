@@ -354,7 +354,7 @@ fn canonical_term(file: FileId, tokens: &[Token], position: &mut usize, depth: u
                 *position += 1;
             }
             let end = tokens[*position - 1].end;
-            return Some(Term::new(TermKind::List(List { items, tail }), Span::new(file, token.start, end)));
+            return Some(Term::new(TermKind::List(Box::new(List { items, tail })), Span::new(file, token.start, end)));
         }
         _ => return None,
     };
