@@ -248,7 +248,9 @@ type InstanceKey = (u32, u32, Box<[Option<ConstId>]>);
 
 /// The rule instantiations of a full exploration, recorded to build a [`GroundTask`].
 struct Recorder {
-    seen: FxHashSet<(u32, Box<[Option<ConstId>]>)>,
+    /// The instantiations recorded so far, as indices into `actions` hashed by their rule and
+    /// bindings (the bindings are stored once, in the action).
+    seen: HashTable<u32>,
     actions: Vec<RecordedAction>,
     /// Distinct Invalid literal instances: (rule, literal, values of the rule's variables
     /// with only the literal's own kept) to their number.
@@ -602,7 +604,7 @@ impl Relaxation {
         negative: bool,
     ) -> Result<bool, Stop> {
         self.recorder = Some(Recorder {
-            seen: FxHashSet::default(),
+            seen: HashTable::new(),
             actions: Vec::new(),
             instances: FxHashMap::default(),
             instance_list: Vec::new(),
@@ -1072,7 +1074,10 @@ impl Relaxation {
     /// Records one rule instantiation that passed its filters, for grounding.
     fn record(&mut self, task: &mut Task, rule: usize, bindings: &[Option<ConstId>]) {
         let Some(recorder) = self.recorder.as_mut() else { return };
-        if recorder.overflowed || !recorder.seen.insert((rule as u32, bindings.into())) {
+        let hash = self.hasher.hash_one((rule as u32, bindings));
+        let actions = &recorder.actions;
+        let same = |&a: &u32| actions[a as usize].rule == rule as u32 && *actions[a as usize].bindings == *bindings;
+        if recorder.overflowed || recorder.seen.find(hash, same).is_some() {
             return;
         }
         if recorder.actions.len() >= recorder.limit || recorder.bytes > recorder.max_bytes {
@@ -1132,16 +1137,17 @@ impl Relaxation {
             invalid.push(id);
         }
         // What the instantiation holds: the action (its vector may have grown to twice its
-        // length), its bindings twice (here and as a key of `seen`, with the set's slot), and
-        // five buffers, each with the allocator's overhead.
+        // length), its bindings, its slot in `seen` (which may have grown to twice its size),
+        // and five buffers, each with the allocator's overhead.
         const ALLOC: usize = 16;
         let binding_bytes = std::mem::size_of_val(bindings) + ALLOC;
         recorder.bytes += 2 * std::mem::size_of::<RecordedAction>()
-            + 2 * binding_bytes
-            + 32
+            + binding_bytes
+            + 2 * (std::mem::size_of::<u32>() + 1)
             + 4 * ALLOC
             + 8 * (pre.len() + add.len() + deletes.len())
             + 4 * invalid.len();
+        let index = recorder.actions.len() as u32;
         recorder.actions.push(RecordedAction {
             rule: rule as u32,
             bindings: bindings.into(),
@@ -1149,6 +1155,11 @@ impl Relaxation {
             add,
             invalid,
             deletes,
+        });
+        let hasher = self.hasher;
+        let Recorder { seen, actions, .. } = recorder;
+        seen.insert_unique(hash, index, |&a| {
+            hasher.hash_one((actions[a as usize].rule, &*actions[a as usize].bindings))
         });
     }
 
