@@ -11,7 +11,27 @@ use codespan_reporting::term;
 use super::{Diagnostic, Diagnostics, Severity, plural};
 use crate::source::{SourceDb, Span};
 
-fn to_codespan(diagnostic: &Diagnostic) -> cs::Diagnostic<crate::source::FileId> {
+/// The longest line a snippet shows, in bytes. A label on a longer line (or beside one, as
+/// context) is given as a note with its position instead: a generated KB can hold a clause of
+/// megabytes on one line, and nobody reads that in a terminal.
+pub const MAX_SNIPPET_LINE: usize = 1_000;
+
+/// The length of the longest line a snippet of `span` would show (its lines and one line of
+/// context on either side).
+fn widest_shown_line(db: &SourceDb, span: Span) -> usize {
+    let file = db.file(span.file);
+    let first = file.line_index(span.start).saturating_sub(1);
+    let last = file.line_index(span.end) + 1;
+    let lines = file.line_starts().len();
+    [first, first + 1, first + 2, last.saturating_sub(1), last]
+        .into_iter()
+        .filter(|&l| l < lines)
+        .map(|l| file.line_range(l).len())
+        .max()
+        .unwrap_or(0)
+}
+
+fn to_codespan(db: &SourceDb, diagnostic: &Diagnostic) -> cs::Diagnostic<crate::source::FileId> {
     let severity = match diagnostic.severity {
         Severity::Error => cs::Severity::Error,
         Severity::Warning => cs::Severity::Warning,
@@ -21,15 +41,28 @@ fn to_codespan(diagnostic: &Diagnostic) -> cs::Diagnostic<crate::source::FileId>
     if let Some(code) = diagnostic.code {
         out = out.with_code(code.as_str());
     }
-    let labels = diagnostic
-        .labels
-        .iter()
-        .map(|label| {
-            let style = if label.primary { cs::LabelStyle::Primary } else { cs::LabelStyle::Secondary };
-            cs::Label::new(style, label.span.file, label.span.range()).with_message(&label.message)
-        })
-        .collect();
-    let mut notes: Vec<String> = diagnostic.notes.iter().map(|n| format!("note: {n}")).collect();
+    let mut labels = Vec::new();
+    let mut far: Vec<String> = Vec::new();
+    for label in &diagnostic.labels {
+        let width = widest_shown_line(db, label.span);
+        if width > MAX_SNIPPET_LINE {
+            let file = db.file(label.span.file);
+            let at = file.line_col(label.span.start);
+            let message = if label.message.is_empty() { String::new() } else { format!(": {}", label.message) };
+            far.push(format!(
+                "at {}:{}:{}{message} (the line is not shown: it is {} bytes long)",
+                file.name(),
+                at.line,
+                at.column,
+                super::group_thousands(width)
+            ));
+            continue;
+        }
+        let style = if label.primary { cs::LabelStyle::Primary } else { cs::LabelStyle::Secondary };
+        labels.push(cs::Label::new(style, label.span.file, label.span.range()).with_message(&label.message));
+    }
+    let mut notes: Vec<String> = far;
+    notes.extend(diagnostic.notes.iter().map(|n| format!("note: {n}")));
     if let Some(help) = &diagnostic.help {
         notes.push(format!("help: {help}"));
     }
@@ -44,7 +77,7 @@ fn config() -> term::Config {
 pub fn to_string(db: &SourceDb, diagnostic: &Diagnostic) -> String {
     // Rendering only fails when a span points outside its file, which is a compiler bug; the
     // message is still worth showing, so fall back to the bare text rather than losing it.
-    term::emit_into_string(&config(), db, &to_codespan(diagnostic))
+    term::emit_into_string(&config(), db, &to_codespan(db, diagnostic))
         .unwrap_or_else(|_| format!("{}: {}\n", severity_word(diagnostic.severity), diagnostic.message))
 }
 
@@ -92,7 +125,7 @@ pub fn emit_to_terminal(db: &SourceDb, diagnostics: &Diagnostics, color: bool) -
     let styles = term::Styles::default();
     for diagnostic in diagnostics.iter() {
         let mut writer = term::StylesWriter::new(&mut stream, &styles);
-        if term::emit_to_write_style(&mut writer, &config(), db, &to_codespan(diagnostic)).is_err() {
+        if term::emit_to_write_style(&mut writer, &config(), db, &to_codespan(db, diagnostic)).is_err() {
             writeln!(stream, "{}: {}", severity_word(diagnostic.severity), diagnostic.message)?;
         }
     }
@@ -216,4 +249,28 @@ pub fn to_json(db: &SourceDb, diagnostic: &Diagnostic) -> String {
         rendered: to_string(db, diagnostic),
     };
     serde_json::to_string(&json).expect("diagnostics always serialise")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_label_on_a_very_long_line_becomes_a_note_with_its_position() {
+        let mut db = SourceDb::new();
+        let long = format!("p :- {}a.\nq.\n", "a, ".repeat(MAX_SNIPPET_LINE));
+        let width = crate::diag::group_thousands(long.find('\n').expect("a line") + 1);
+        let file = db.add("long.pl", None, long);
+        let diagnostic = Diagnostic::error(crate::diag::codes::UNKNOWN_PREDICATE, "unknown predicate `a/0`")
+            .primary(Span::new(file, 5, 6), "no clause defines it");
+        let text = to_string(&db, &diagnostic);
+        assert!(text.contains("at long.pl:1:6: no clause defines it"), "{text}");
+        let shown = format!("{width} bytes long");
+        assert!(text.contains(&shown) && !text.contains("a, a, a"), "the line is left out:\n{text}");
+        // A short line keeps its snippet.
+        let short = db.add("short.pl", None, "p :- a.\n".to_string());
+        let diagnostic = Diagnostic::error(crate::diag::codes::UNKNOWN_PREDICATE, "unknown predicate `a/0`")
+            .primary(Span::new(short, 5, 6), "no clause defines it");
+        assert!(to_string(&db, &diagnostic).contains("p :- a."));
+    }
 }
