@@ -103,49 +103,37 @@ pub(crate) fn reassign(
     timed: Timed,
 ) -> (crate::ir::plan::Plan, Timed) {
     let before = timed.schedule.makespan;
-    super::timing::time(
-        "reassign",
-        || reassign_rounds(kb, interner, program, task, plan, timed),
-        |(_, timed)| {
-            let (from, to) = (before, timed.schedule.makespan);
-            format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
-        },
-    )
-}
-
-fn reassign_rounds(
-    kb: &Kb,
-    interner: &Interner,
-    program: &crate::engine::Program,
-    task: &mut crate::ir::task::Task,
-    plan: crate::ir::plan::Plan,
-    timed: Timed,
-) -> (crate::ir::plan::Plan, Timed) {
-    let (mut plan, mut timed) = (plan, timed);
-    for _ in 0..REASSIGN_ROUNDS {
-        let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
-        let mut improved = false;
-        for candidate in candidates {
-            if candidate.estimate >= timed.schedule.makespan
-                || !crate::planner::is_solution(task, program, &candidate.plan)
-            {
-                continue;
+    let rounds = || {
+        let (mut plan, mut timed) = (plan, timed);
+        for _ in 0..REASSIGN_ROUNDS {
+            let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
+            let mut improved = false;
+            for candidate in candidates {
+                if candidate.estimate >= timed.schedule.makespan
+                    || !crate::planner::is_solution(task, program, &candidate.plan)
+                {
+                    continue;
+                }
+                let mut diags = Diagnostics::new();
+                if let Some(scheduled) =
+                    schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
+                    && scheduled.schedule.makespan < timed.schedule.makespan
+                {
+                    (plan, timed) = (candidate.plan, scheduled);
+                    improved = true;
+                    break;
+                }
             }
-            let mut diags = Diagnostics::new();
-            if let Some(scheduled) =
-                schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
-                && scheduled.schedule.makespan < timed.schedule.makespan
-            {
-                (plan, timed) = (candidate.plan, scheduled);
-                improved = true;
+            if !improved {
                 break;
             }
         }
-        if !improved {
-            break;
-        }
-    }
-    (plan, timed)
+        (plan, timed)
+    };
+    super::timing::time("reassign", rounds, |(_, timed)| {
+        let (from, to) = (before, timed.schedule.makespan);
+        format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
+    })
 }
 
 /// The makespan `kbc plan` gives a plan the heuristic search found: scheduled by the temporal
