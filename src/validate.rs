@@ -93,6 +93,10 @@ fn parse_fixed(text: &str, decimals: usize) -> Option<i64> {
     whole.checked_mul(10i64.checked_pow(decimals as u32)?)?.checked_add(parts)
 }
 
+/// The decimals of [`PlanStep::fine_timing`] (millionths), and millionths per STN time unit.
+const FINE_DECIMALS: usize = 6;
+const FINE_PER_UNIT: i64 = 1000;
+
 /// A timed line's start and duration: in STN time (thousandths) and in millionths.
 struct LineTimes {
     time: i64,
@@ -117,15 +121,15 @@ fn timed_line(line: &str) -> Option<(LineTimes, String, usize)> {
         .map_or(line.len(), |(i, _)| i);
     let line = line[..end].trim_end();
     let (time, rest) = line.split_once(':')?;
-    let (time, fine_time) = (parse_time(time.trim())?, parse_fixed(time.trim(), 6)?);
+    let (time, fine_time) = (parse_time(time.trim())?, parse_fixed(time.trim(), FINE_DECIMALS)?);
     let open = rest.find('(')?;
-    let close = matching_paren(rest, open)?;
+    let close = open + crate::syntax::text::closing_bracket(&rest[open..])?;
     let inner = rest.get(open + 1..close)?.trim();
     let after = rest[close + 1..].trim();
     // LPG-td 1.4 ends its lines with a stray `)` after the duration: `[1.0000])`.
     let after = after.strip_suffix(')').filter(|a| a.ends_with(']')).unwrap_or(after);
     let (duration, fine_duration) = match after.strip_prefix('[').and_then(|d| d.strip_suffix(']')) {
-        Some(d) => (Some(parse_time(d.trim())?), Some(parse_fixed(d.trim(), 6)?)),
+        Some(d) => (Some(parse_time(d.trim())?), Some(parse_fixed(d.trim(), FINE_DECIMALS)?)),
         None if after.is_empty() => (None, None),
         None => return None,
     };
@@ -142,26 +146,6 @@ fn timed_line(line: &str) -> Option<(LineTimes, String, usize)> {
     let text = if args.is_empty() { name.clone() } else { format!("{name}({})", args.join(", ")) };
     let offset = line.len() - rest.len() + open;
     Some((LineTimes { time, duration, fine: (fine_time, fine_duration) }, text, offset))
-}
-
-/// The byte index of the `)` that closes the `(` at `open`, outside quoted atoms.
-fn matching_paren(text: &str, open: usize) -> Option<usize> {
-    let mut depth = 0usize;
-    let mut quoted = false;
-    for (i, c) in text[open..].char_indices() {
-        match c {
-            '\'' => quoted = !quoted,
-            '(' if !quoted => depth += 1,
-            ')' if !quoted => {
-                depth -= 1;
-                if depth == 0 {
-                    return Some(open + i);
-                }
-            }
-            _ => {}
-        }
-    }
-    None
 }
 
 /// Reads a plan file: one step per line, optionally numbered and ended by `.`; lines starting
@@ -989,7 +973,7 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
                 }
                 let (fine, fine_end) = match step.fine_timing {
                     Some((t, Some(d))) => (t, t + d),
-                    _ => (time * 1000, (time + duration) * 1000),
+                    _ => (time * FINE_PER_UNIT, (time + duration) * FINE_PER_UNIT),
                 };
                 events.push(Event { time, fine, order: 2, name: start, step: i });
                 events.push(Event { time: time + duration, fine: fine_end, order: 0, name: end, step: i });
@@ -1002,7 +986,7 @@ pub fn validate_timed(kb: &Kb, interner: &Interner, program: &Program, problem: 
                 return Verdict { diagnostics, applied: 0, plan };
             }
             _ => {
-                let fine = step.fine_timing.map_or(time * 1000, |(t, _)| t);
+                let fine = step.fine_timing.map_or(time * FINE_PER_UNIT, |(t, _)| t);
                 events.push(Event { time, fine, order: 1, name: step.name.clone(), step: i })
             }
         }

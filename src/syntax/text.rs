@@ -67,6 +67,28 @@ pub(crate) fn split_top_level(text: &str, separator: impl Fn(char) -> bool) -> V
     pieces.into_iter().map(|p| p.trim().to_string()).filter(|p| !p.is_empty()).collect()
 }
 
+/// The byte offset of the bracket that closes the one `text` starts with, outside quotes:
+/// `(go 'a)b') [1]` gives 9. `None` if it is never closed.
+pub(crate) fn closing_bracket(text: &str) -> Option<usize> {
+    let (mut depth, mut at, mut found) = (0i32, 0usize, None);
+    scan(text, |c, outside| {
+        if found.is_none() && outside {
+            match c {
+                '(' | '[' => depth += 1,
+                ')' | ']' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        found = Some(at);
+                    }
+                }
+                _ => {}
+            }
+        }
+        at += c.len_utf8();
+    });
+    found
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,5 +99,8 @@ mod tests {
         assert_eq!(split_top_level("a, f(b, c), 'x, y', [1, 2]", |c| c == ','), ["a", "f(b, c)", "'x, y'", "[1, 2]"]);
         assert_eq!(split_top_level("grip  a1 'b 2' f(x,y)", char::is_whitespace), ["grip", "a1", "'b 2'", "f(x,y)"]);
         assert_eq!(split_top_level("'it\\'s, here', b", |c| c == ','), ["'it\\'s, here'", "b"]);
+        assert_eq!(closing_bracket("(go 'a)b') [1]"), Some(9));
+        assert_eq!(closing_bracket("(f(x) 'it\\')') y"), Some(13));
+        assert_eq!(closing_bracket("(open"), None);
     }
 }
