@@ -403,7 +403,6 @@ fn write_view(
     rounds: &[(&Program, i64, &Log)],
     gantt_svg: Option<&str>,
 ) -> Result<(), ExitCode> {
-    use render::gantt::Ending;
     let arms = sim.world().arm_names();
     let mut actions = Vec::new();
     for (program, offset, log) in rounds {
@@ -412,11 +411,7 @@ fn write_view(
             arm: r.arm.map(|a| arms[a].clone()),
             start: seconds(r.start),
             end: seconds(r.end),
-            ending: match r.ending {
-                Ending::Done => "done",
-                Ending::Failed => "failed",
-                Ending::Halted => "halted",
-            },
+            ending: r.ending,
             text: r.text,
         }));
     }

@@ -56,8 +56,9 @@ pub struct Bar {
     pub ending: Ending,
 }
 
-/// How a bar's action ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a bar's action ended (`done`, `failed` or `halted` in the `--view` page's data).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Ending {
     /// As planned, or successfully.
     Done,

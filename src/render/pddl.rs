@@ -1452,7 +1452,7 @@ pub fn plan_to_pddl(
         let bounds = stn.durations.get(timed.step).copied().flatten();
         let same_duration = |entry: &serde_json::Value| {
             let Some(bounds) = bounds else { return true };
-            let units = |v: &serde_json::Value| v.as_f64().map(|v| (v * crate::ir::stn::UNITS as f64).round() as i64);
+            let units = |v: &serde_json::Value| v.as_f64().and_then(crate::passes::stn::to_stn_time);
             units(&entry["duration"][0]) == Some(bounds.min) && units(&entry["duration"][1]) == bounds.max
         };
         let (name, entry) = actions

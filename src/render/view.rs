@@ -28,8 +28,8 @@ pub struct RanAction {
     pub start: f64,
     /// Seconds; the action's end, or when it failed or was halted.
     pub end: f64,
-    /// `done`, `failed` or `halted`.
-    pub ending: &'static str,
+    /// How it ended.
+    pub ending: super::gantt::Ending,
 }
 
 /// What the page shows.
