@@ -274,6 +274,19 @@ fn map_back(plan: &str, names: &serde_json::Value) -> String {
     out
 }
 
+/// Writes the rungs `keep` picks into a scratch directory `dir`; their paths.
+fn write_rungs(dir: &str, rungs: Vec<kbc::ladder::Rung>, keep: impl Fn(&kbc::ladder::Rung) -> bool) -> Vec<String> {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(dir);
+    std::fs::create_dir_all(&dir).expect("writable");
+    let mut paths = Vec::new();
+    for rung in rungs.into_iter().filter(|r| keep(r)) {
+        let path = dir.join(format!("{}.pl", rung.name()));
+        std::fs::write(&path, rung.source()).expect("writable");
+        paths.push(path.display().to_string());
+    }
+    paths
+}
+
 fn kairos() -> Option<PathBuf> {
     let found = Command::new("kairos").arg("--version").output().ok()?;
     found.status.success().then(|| PathBuf::from("kairos"))
@@ -358,14 +371,10 @@ fn plans_another_planner_finds_for_the_export_are_valid_on_the_kb() {
         let exported = export(example, &format!("k-example-{i}"), &["--with-plan"]);
         kairos_accepts_kbc_plan(example, &exported);
     }
-    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-ladder");
-    std::fs::create_dir_all(&ladder_dir).expect("writable");
     let mut cases: Vec<(Vec<String>, &str)> =
         vec![(vec!["examples/02_llm_stacking/test_case.pl".into()], "k-test-case")];
-    for rung in kbc::ladder::standard().into_iter().filter(|r| r.blocks <= 4) {
-        let path = ladder_dir.join(format!("{}.pl", rung.name()));
-        std::fs::write(&path, rung.source()).expect("writable");
-        cases.push((vec![path.display().to_string()], "k-ladder"));
+    for path in write_rungs("export-ladder", kbc::ladder::standard(), |r| r.blocks <= 4) {
+        cases.push((vec![path], "k-ladder"));
     }
     let mut fixed_minimum = 0;
     for (i, (kb, dir)) in cases.iter().enumerate() {
@@ -440,15 +449,10 @@ fn unified_planning_reads_the_export_and_validates_kbc_plans() {
         eprintln!("skipped: unified-planning is not installed (pip install unified-planning); .ci/run installs it");
         return;
     }
-    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-up-ladder");
-    std::fs::create_dir_all(&ladder_dir).expect("writable");
     let mut kbs: Vec<String> = vec!["examples/02_llm_stacking/test_case.pl".into()];
     // Every family's small rungs (unified-planning grounds the problem in Python: seconds each).
-    for rung in kbc::ladder::all().into_iter().filter(|r| r.blocks <= 4 || r.name().starts_with("grid_b06")) {
-        let path = ladder_dir.join(format!("{}.pl", rung.name()));
-        std::fs::write(&path, rung.source()).expect("writable");
-        kbs.push(path.display().to_string());
-    }
+    let small = |r: &kbc::ladder::Rung| r.blocks <= 4 || r.name().starts_with("grid_b06");
+    kbs.extend(write_rungs("export-up-ladder", kbc::ladder::all(), small));
     let mut cases = Vec::new();
     // The other examples that have a problem to plan (their own domains, durations and OnKB).
     let examples: [&[&str]; 5] = [
@@ -513,17 +517,11 @@ fn plans_lpg_finds_for_the_export_are_valid_on_the_kb() {
         eprintln!("skipped: LPG is not installed (pip install 'setuptools<81' up-lpg); .ci/run installs it");
         return;
     };
-    let ladder_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export-lpg-ladder");
-    std::fs::create_dir_all(&ladder_dir).expect("writable");
     let mut kbs: Vec<String> = vec!["examples/02_llm_stacking/test_case.pl".into()];
     // The build and reverse rungs: LPG's local search does not solve the swap rungs (their
     // blocks must pass through a spare cell) within its limits, on any seed tried.
-    let solvable = |name: &str| !name.starts_with("swap");
-    for rung in kbc::ladder::standard().into_iter().filter(|r| r.blocks <= 4 && solvable(&r.name())) {
-        let path = ladder_dir.join(format!("{}.pl", rung.name()));
-        std::fs::write(&path, rung.source()).expect("writable");
-        kbs.push(path.display().to_string());
-    }
+    let solvable = |r: &kbc::ladder::Rung| r.blocks <= 4 && !r.name().starts_with("swap");
+    kbs.extend(write_rungs("export-lpg-ladder", kbc::ladder::standard(), solvable));
     let mut failures = Vec::new();
     for (i, kb) in kbs.iter().enumerate() {
         let args = ["--no-negative-preconditions", "--durations", "min"];

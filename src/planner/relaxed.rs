@@ -688,7 +688,7 @@ impl Relaxation {
     }
 
     /// The bytes the exploration tables, and while grounding the recorded instantiations, hold.
-    pub fn footprint(&self) -> usize {
+    fn footprint(&self) -> usize {
         self.recorder.as_ref().map_or(0, |r| r.bytes)
             + self.tables.iter().map(Table::footprint).sum::<usize>()
             + self.arena.capacity() * std::mem::size_of::<Option<ConstId>>()
