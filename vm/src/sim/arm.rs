@@ -51,6 +51,12 @@ impl ArmModel {
         Some(Joints { yaw: d.y.atan2(d.x), shoulder, elbow })
     }
 
+    /// Where the elbow (the end of the first link) is for `joints`.
+    pub fn elbow(&self, joints: Joints) -> Vector3<f64> {
+        let r = self.upper * joints.shoulder.cos();
+        self.shoulder + Vector3::new(r * joints.yaw.cos(), r * joints.yaw.sin(), self.upper * joints.shoulder.sin())
+    }
+
     /// Where the gripper is for `joints`.
     pub fn forward(&self, joints: Joints) -> Vector3<f64> {
         let r = self.upper * joints.shoulder.cos() + self.fore * (joints.shoulder - joints.elbow).cos();

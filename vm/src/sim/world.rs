@@ -101,15 +101,6 @@ pub(crate) struct Arm {
     pub(crate) lost: Option<usize>,
 }
 
-impl Arm {
-    /// Where the elbow is: the end of the first link.
-    fn elbow(&self) -> Vector3<f64> {
-        let (j, m) = (self.joints, &self.model);
-        let r = m.upper * j.shoulder.cos();
-        m.shoulder + Vector3::new(r * j.yaw.cos(), r * j.yaw.sin(), m.upper * j.shoulder.sin())
-    }
-}
-
 /// The simulated world.
 pub struct World {
     pub(crate) physics: PhysicsWorld,
@@ -323,7 +314,7 @@ impl World {
             .collect();
         let round = |p: Vector3<f64>| [p.x, p.y, p.z].map(|v| (v * 1e4).round() / 1e4);
         let grippers = (0..self.arms.len()).map(|a| round(self.gripper_position(a))).collect();
-        let elbows = self.arms.iter().map(|arm| round(arm.elbow())).collect();
+        let elbows = self.arms.iter().map(|arm| round(arm.model.elbow(arm.joints))).collect();
         super::Frame { time: self.steps as f64 * self.config.step_seconds(), blocks, grippers, elbows }
     }
 
