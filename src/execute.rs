@@ -2,8 +2,6 @@
 //! simulated world built for a KB's problem, the world read back as HIR terms, and the
 //! executed timeline as a timed plan that the timed validator checks against the KB.
 
-use std::fmt::Write;
-
 use kbvm::Program;
 use kbvm::bytecode::Instr;
 use kbvm::run::{Outcome, Run};
@@ -84,7 +82,14 @@ pub fn timed_plan(program: &Program, run: &Run) -> String {
     let call = |import: &kbvm::bytecode::ImportId, args: &[kbvm::bytecode::Value]| {
         let mut text = format!("({}", program.import_name(*import));
         for &a in args {
-            let _ = write!(text, " {}", program.value_text(a));
+            text.push(' ');
+            // Atoms as the KB writes them, so the line reads back (`'_A'` stays an atom).
+            match a {
+                kbvm::bytecode::Value::Atom(_) => {
+                    crate::syntax::ops::write_atom_text(&mut text, &program.value_text(a))
+                }
+                kbvm::bytecode::Value::Int(_) => text.push_str(&program.value_text(a)),
+            }
         }
         text.push(')');
         text

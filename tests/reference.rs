@@ -26,6 +26,7 @@ use std::time::{Duration, Instant};
 
 use kbc::ir::hir;
 use kbc::planner::{self, Budget, Failure, Options, SearchKind, Silent};
+use kbc::session::{PlanSettings, Session};
 use kbc::source::SourceDb;
 use kbc::source::fs::FsLoader;
 use kbc::validate::{self, PlanStep};
@@ -33,7 +34,12 @@ use kbc::validate::{self, PlanStep};
 // ---------------------------------------------------------------------------------------------
 // The KB model, as the reference sees it.
 
-const CONSTS: [&str; 3] = ["a", "b", "c"];
+/// The constants; the generator uses the first two or three. The last is the value kbc gives a
+/// variable `V` of the initial state of its own (docs/dsl.md, "Problems"): it equals nothing
+/// else.
+const CONSTS: [&str; 4] = ["a", "b", "c", "'_V'"];
+/// The index of `'_V'` in `CONSTS`.
+const OWN_VALUE: usize = 3;
 
 /// A term of a schema: a variable (by number), a constant (by index in `CONSTS`) or `_`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,6 +94,9 @@ struct Kb {
     init: Vec<(usize, Vec<usize>)>,
     /// The goal's literals; `T::Var` are goal variables shared between literals.
     goal: Vec<Lit>,
+    /// Places of the initial state (fact, argument) that hold the variable `V` instead of
+    /// their constant (warning W0015); empty for most KBs.
+    open: Vec<(usize, usize)>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -189,8 +198,14 @@ fn generate(seed: u64) -> Kb {
     // Often, a fact a random walk from the initial state reaches (ending its durative actions
     // is left to the planner): such goals are reachable ignoring the running actions.
     if rng.chance(60) {
-        let mut kb =
-            Kb { statics: statics.clone(), schemas: schemas.clone(), resources, init: init.clone(), goal: Vec::new() };
+        let mut kb = Kb {
+            statics: statics.clone(),
+            schemas: schemas.clone(),
+            resources,
+            init: init.clone(),
+            goal: Vec::new(),
+            open: Vec::new(),
+        };
         let mut state = initial(&kb);
         for _ in 0..1 + rng.below(6) {
             let next = successors(&kb, &state);
@@ -235,13 +250,19 @@ fn generate(seed: u64) -> Kb {
             })
             .collect();
         let start = State { facts: init.iter().cloned().collect(), running: BTreeSet::new() };
-        let probe =
-            Kb { statics: Vec::new(), schemas: Vec::new(), resources: None, init: Vec::new(), goal: goal.clone() };
+        let probe = Kb {
+            statics: Vec::new(),
+            schemas: Vec::new(),
+            resources: None,
+            init: Vec::new(),
+            goal: goal.clone(),
+            open: Vec::new(),
+        };
         if !goal_holds(&probe, &start) {
             break;
         }
     }
-    Kb { statics, schemas, resources, init, goal }
+    Kb { statics, schemas, resources, init, goal, open: Vec::new() }
 }
 
 fn blank(base: &str, snap: Snap, vars: usize) -> Schema {
@@ -398,7 +419,15 @@ fn kb_text(kb: &Kb) -> String {
     let init: Vec<String> = kb
         .init
         .iter()
-        .map(|(p, args)| show_lit(&Lit { pred: *p, args: args.iter().map(|&c| T::Const(c)).collect() }))
+        .enumerate()
+        .map(|(f, (p, args))| {
+            let shown: Vec<String> = args
+                .iter()
+                .enumerate()
+                .map(|(a, &c)| if kb.open.contains(&(f, a)) { "V".to_string() } else { CONSTS[c].to_string() })
+                .collect();
+            if shown.is_empty() { format!("f{p}") } else { format!("f{p}({})", shown.join(", ")) }
+        })
         .collect();
     let goal: Vec<String> = kb.goal.iter().map(show_lit).collect();
     let _ = writeln!(out, "prob :- go([{}], [{}]).", init.join(", "), goal.join(", "));
@@ -688,6 +717,41 @@ fn reference_accepts(kb: &Kb, steps: &[String]) -> bool {
     states.iter().any(|s| goal_holds(kb, s))
 }
 
+/// `kb` with its open places (the variable `V`) given `value`.
+fn grounded(kb: &Kb, value: usize) -> Kb {
+    let mut ground = kb.clone();
+    for &(fact, arg) in &kb.open {
+        ground.init[fact].1[arg] = value;
+    }
+    ground.open.clear();
+    ground
+}
+
+/// The values `V` may take: its own, then every constant (docs/dsl.md, "Problems"; kbc tries
+/// only the constants the KB writes, but one it does not write behaves as `V`'s own value).
+fn values_of_v(kb: &Kb) -> Vec<usize> {
+    if kb.open.is_empty() { vec![0] } else { std::iter::once(OWN_VALUE).chain(0..OWN_VALUE).collect() }
+}
+
+/// The reference plan of a KB whose initial state may have the variable `V`: a plan for some
+/// value of it.
+fn reference_plan_open(kb: &Kb, max_states: usize) -> Reference {
+    let mut unknown = false;
+    for value in values_of_v(kb) {
+        match reference_plan(&grounded(kb, value), max_states) {
+            Reference::Plan(plan) => return Reference::Plan(plan),
+            Reference::Unknown => unknown = true,
+            Reference::Unsolvable => {}
+        }
+    }
+    if unknown { Reference::Unknown } else { Reference::Unsolvable }
+}
+
+/// True if the steps reach the goal for some value of `V`.
+fn reference_accepts_open(kb: &Kb, steps: &[String]) -> bool {
+    values_of_v(kb).into_iter().any(|value| reference_accepts(&grounded(kb, value), steps))
+}
+
 // ---------------------------------------------------------------------------------------------
 // kbc against the reference.
 
@@ -802,6 +866,121 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The KB of `seed` with the variable `V` in place of one or two constants of its initial
+/// state; `None` when no initial fact has an argument. The places come from a second stream of
+/// random numbers, so the KB is otherwise the one `check` tests.
+fn with_open_init(seed: u64) -> Option<Kb> {
+    let mut kb = generate(seed);
+    let mut rng = Rng::new(seed ^ 0x0be1_17a1);
+    let places: Vec<(usize, usize)> =
+        kb.init.iter().enumerate().flat_map(|(f, (_, args))| (0..args.len()).map(move |a| (f, a))).collect();
+    if places.is_empty() {
+        return None;
+    }
+    kb.open.push(places[rng.below(places.len())]);
+    let second = places[rng.below(places.len())];
+    if rng.chance(30) && !kb.open.contains(&second) {
+        kb.open.push(second);
+    }
+    Some(kb)
+}
+
+/// Checks the KB of `seed` with a variable in its initial state, through the session (which
+/// tries the variable's values) as `kbc plan` and `kbc validate` run it.
+fn check_open_init(seed: u64, counts: &mut Counts) -> Result<(), String> {
+    let Some(kb) = with_open_init(seed) else { return Ok(()) };
+    let text = kb_text(&kb);
+    counts.kbs += 1;
+    let reference = reference_plan_open(&kb, 20_000);
+    let context = |what: String| format!("seed {seed} (open init): {what}\n{text}");
+    let mut session = Session::from_text(&format!("seed{seed}.pl"), text.clone());
+    if session.has_errors() {
+        counts.refused += 1;
+        if let Reference::Plan(plan) = &reference {
+            let messages = common::messages(session.diagnostics());
+            return Err(context(format!("kbc refuses a KB the reference plans ({plan:?}): {messages:?}")));
+        }
+        return Ok(());
+    }
+    let validate_text = |session: &mut Session, plan_text: String, names: &[String]| -> Result<(), String> {
+        let file = session.add_text("plan.txt", plan_text);
+        let steps = session.read_plan_steps(file).ok_or_else(|| format!("kbc cannot read the plan {names:?}"))?;
+        let verdict = session.validate(0, &steps);
+        if verdict.diagnostics.has_errors() {
+            return Err(format!("kbc validate rejects {names:?}: {:?}", common::messages(&verdict.diagnostics)));
+        }
+        Ok(())
+    };
+    match &reference {
+        Reference::Plan(plan) => {
+            counts.solvable += 1;
+            let text: String = plan.iter().map(|n| format!("{n}\n")).collect();
+            validate_text(&mut session, text, plan).map_err(&context)?;
+        }
+        Reference::Unsolvable => counts.unsolvable += 1,
+        Reference::Unknown => counts.unknown += 1,
+    }
+    for search in [SearchKind::Heuristic, SearchKind::Paper] {
+        let max_depth = match &reference {
+            Reference::Plan(plan) => Some((plan.len() as u32).max(12)),
+            _ => Some(12),
+        };
+        let settings = PlanSettings {
+            search,
+            max_depth,
+            max_states: 200_000,
+            timeout: Some(Duration::from_secs(10)),
+            ..PlanSettings::default()
+        };
+        match (session.search(0, &settings, &mut Silent), &reference) {
+            (Ok(found), _) => {
+                let plan = found.plans[0].clone();
+                let (kb_hir, interner) = (session.kb(), session.interner());
+                let names: Vec<String> = plan
+                    .steps
+                    .iter()
+                    .map(|s| hir::term_to_string(interner, &s.name, &hir::VarTable::default()))
+                    .collect();
+                if !reference_accepts_open(&kb, &names) {
+                    return Err(context(format!("{search:?} search plan {names:?} is not valid in the reference")));
+                }
+                let printed = kbc::ir::plan::print(interner, kb_hir, &plan);
+                validate_text(&mut session, printed, &names).map_err(&context)?;
+            }
+            (Err(failed), _) if matches!(failed.failure, Failure::Budget(_)) => counts.budget += 1,
+            (Err(failed), Reference::Plan(plan)) => {
+                return Err(context(format!(
+                    "{search:?} search finds no plan ({:?}); the reference has {plan:?}",
+                    failed.failure
+                )));
+            }
+            (Err(_), _) => {}
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn kbc_agrees_with_the_reference_on_kbs_with_a_variable_in_the_initial_state() {
+    let count = std::env::var("KBC_REFERENCE_KBS").ok().and_then(|n| n.parse().ok()).unwrap_or(300u64);
+    let mut counts = Counts::default();
+    let mut failures = Vec::new();
+    for seed in 1..=count {
+        if let Err(message) = check_open_init(seed, &mut counts) {
+            failures.push(message);
+        }
+    }
+    eprintln!("{counts:?}");
+    assert!(counts.solvable * 8 > counts.kbs, "too few solvable KBs: {counts:?}");
+    assert!(
+        failures.is_empty(),
+        "{} of {} KBs disagree with the reference:\n\n{}",
+        failures.len(),
+        counts.kbs,
+        failures.iter().take(5).cloned().collect::<Vec<_>>().join("\n\n")
+    );
 }
 
 #[test]

@@ -106,7 +106,7 @@ codes! {
     DUPLICATE_ACTION = "E0206": "duplicate action schema";
     UNKNOWN_MAPPED_ACTION = "E0207": "a mapping to an unknown action";
     INCOMPLETE_PROBLEM = "E0208": "a problem without an init or a goal state";
-    NON_GROUND_INIT = "E0209": "an init fact that is not ground";
+    NON_GROUND_INIT = "E0209": "an init fact that is not ground (no longer emitted)";
     UNKNOWN_PREDICATE = "E0210": "unknown predicate";
     WRONG_ARITY = "E0211": "a predicate used with a different arity";
     UNREACHABLE_GOAL = "E0212": "a goal literal nothing can make true";
@@ -168,7 +168,12 @@ codes! {
     MISSPELT_DECLARATION = "W0012": "a fact named like a kbc declaration";
     UNUSED_DURATION = "W0013": "a duration that names no durative action";
     INCLUDED_AGAIN = "W0014": "a file included again";
+    OPEN_INIT = "W0015": "an initial fact with a variable";
 }
+
+/// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older
+/// versions, and say what replaced them; codes are never reused.
+pub const RETIRED: &[&str] = &["E0209"];
 
 #[cfg(test)]
 mod tests {

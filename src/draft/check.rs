@@ -307,9 +307,8 @@ fn only_test_cases(frontend: &Frontend, kb: &Kb, draft: FileId, diagnostics: &mu
 
 /// The problem's states as printed facts.
 pub fn states_of(interner: &Interner, problem: &Problem) -> States {
-    let facts = |literals: &[hir::Literal]| {
+    let facts = |literals: &mut dyn Iterator<Item = &hir::Literal>| {
         literals
-            .iter()
             .map(|l| {
                 let name = interner.resolve(l.name()).to_string();
                 let args = l.term.args().iter().map(|a| hir::term_to_string(interner, a, &problem.vars)).collect();
@@ -317,7 +316,7 @@ pub fn states_of(interner: &Interner, problem: &Problem) -> States {
             })
             .collect()
     };
-    States { init: facts(&problem.init), goal: facts(&problem.goal) }
+    States { init: facts(&mut problem.initial_facts()), goal: facts(&mut problem.goal.iter()) }
 }
 
 /// The first line of `text`, shortened.

@@ -344,9 +344,18 @@ pub struct Problem {
     /// `High` for a problem as written; `Low` for the arm-level problem the refinement pass
     /// derives from one ([`Kb::arm_problem`]), whose plans are sequences of `ll_action`s.
     pub level: Level,
-    /// Initial facts with variables on arm-level predicates (`ll_arm_at(a1, 4, 4, _)`): the
-    /// arm level matches them by unification; the high level never reads them.
+    /// Initial facts with variables. Those on arm-level predicates (`ll_arm_at(a1, 4, 4, _)`)
+    /// the arm level matches by unification; for the others the planner tries values
+    /// ([`crate::passes::open_init`]), and the high-level task of the problem as written
+    /// leaves them out.
     pub open_init: Vec<Literal>,
+}
+
+impl Problem {
+    /// Every initial fact as written: the ground ones, then those with variables.
+    pub fn initial_facts(&self) -> impl Iterator<Item = &Literal> {
+        self.init.iter().chain(&self.open_init)
+    }
 }
 
 /// A file's arm-level state: `ll_init([...])` and `ll_goal([...])`.
@@ -497,7 +506,7 @@ impl Kb {
         let preds = self.arm_level_preds();
         let on_arm = |l: &&Literal| l.term.callable().is_some_and(|key| preds.contains(&key));
         let mut init: Vec<Literal> = base.init.iter().filter(on_arm).cloned().collect();
-        init.extend(base.open_init.iter().cloned());
+        init.extend(base.open_init.iter().filter(on_arm).cloned());
         let mut goal: Vec<Literal> = base.goal.iter().filter(on_arm).cloned().collect();
         let mut vars = base.vars.clone();
         let state = match self.arm_states.iter().find(|s| s.file == base.span.file) {

@@ -95,7 +95,7 @@ fn describe(analysis: &Analysis, key: Key) -> String {
             let mut text = format!(
                 "```prolog\n{}\n```\nproblem ({form}): {}, {}",
                 name(problem),
-                plural(p.init.len(), "initial fact"),
+                plural(p.initial_facts().count(), "initial fact"),
                 plural(p.goal.len(), "goal literal"),
             );
             if let Some(depth) = p.max_depth {
@@ -128,7 +128,7 @@ fn describe_predicate(analysis: &Analysis, predicate: Symbol, arity: usize) -> S
     let problems = |pick: &dyn Fn(&hir::Problem) -> bool| -> Vec<String> {
         kb.problems.iter().filter(|p| pick(p)).map(|p| format!("`{}`", interner.resolve(p.name))).collect()
     };
-    let init = problems(&|p| p.init.iter().any(matches));
+    let init = problems(&|p| p.initial_facts().any(matches));
     let goal = problems(&|p| p.goal.iter().any(matches));
     let clauses: Vec<&hir::Clause> = kb.clauses.iter().filter(|c| matches(&c.head)).collect();
     let mut lines = Vec::new();
@@ -262,8 +262,11 @@ pub fn document_symbols(analysis: &Analysis, file: FileId) -> Vec<DocumentSymbol
         symbols.push((mapping.span.start, symbol));
     }
     for problem in kb.problems.iter().filter(|p| p.span.file == file) {
-        let detail =
-            format!("{}, {}", plural(problem.init.len(), "initial fact"), plural(problem.goal.len(), "goal literal"));
+        let detail = format!(
+            "{}, {}",
+            plural(problem.initial_facts().count(), "initial fact"),
+            plural(problem.goal.len(), "goal literal")
+        );
         let name = interner.resolve(problem.name).to_string();
         symbols.push((
             problem.span.start,

@@ -112,7 +112,7 @@ impl Index {
             add(&resource.template, Role::Resource);
         }
         for problem in &kb.problems {
-            for literal in &problem.init {
+            for literal in problem.initial_facts() {
                 add(literal, Role::Init);
             }
             for literal in &problem.goal {

@@ -79,7 +79,7 @@ impl Vocabulary {
             init: kb
                 .problems
                 .iter()
-                .flat_map(|p| p.init.iter().map(key))
+                .flat_map(|p| p.initial_facts().map(key))
                 .chain(kb.arm_level_state_preds.iter().copied())
                 .collect(),
             used_by_actions: BTreeSet::new(),
@@ -496,7 +496,7 @@ impl Checker<'_> {
             for l in &problem.goal {
                 self.state_literal(l, StateUse::Goal);
             }
-            for l in &problem.init {
+            for l in problem.initial_facts() {
                 self.init_literal(l);
             }
         }
@@ -753,7 +753,7 @@ impl Checker<'_> {
                 if !self.vocabulary.state_known(key) || self.vocabulary.recovered.contains(&key) {
                     continue; // reported as an unknown predicate, or hidden by a syntax error
                 }
-                let in_init = problem.init.iter().any(|fact| unifiable(&goal.term, &fact.term));
+                let in_init = problem.initial_facts().any(|fact| unifiable(&goal.term, &fact.term));
                 let added = adds.iter().any(|effect| unifiable(&goal.term, &effect.term));
                 if in_init || added {
                     continue;

@@ -774,51 +774,63 @@ impl Lowerer<'_> {
         ok.then_some(literals)
     }
 
-    /// Splits init facts into the ground ones and those with variables; the latter are kept
-    /// for the arm level when their predicate is an arm-level one ([`Lowerer::check_open_init`]).
+    /// Splits init facts into the ground ones and those with variables (`open_init`).
     fn ground_init(init: Vec<Literal>) -> (Vec<Literal>, Vec<Literal>) {
         init.into_iter().partition(|l| l.term.is_ground())
     }
 
-    /// Reports init facts with variables on predicates the arm level does not read (E0209),
-    /// once every `ll_action` is known, and drops them.
+    /// Warns about init facts with variables on predicates the arm level does not read (W0015),
+    /// once every `ll_action` is known. They stay in `open_init`: the planner gives their
+    /// variables values ([`crate::passes::open_init`]); the arm level matches its own by
+    /// unification.
     fn check_open_init(&mut self) {
         let arm = self.kb.arm_level_preds();
         for p in 0..self.kb.problems.len() {
-            let open = std::mem::take(&mut self.kb.problems[p].open_init);
-            let (kept, refused): (Vec<Literal>, Vec<Literal>) =
-                open.into_iter().partition(|l| l.term.callable().is_some_and(|key| arm.contains(&key)));
-            self.kb.problems[p].open_init = kept;
-            let vars = self.kb.problems[p].vars.clone();
-            for literal in refused {
-                self.non_ground_init(&literal, &vars);
+            let problem = &self.kb.problems[p];
+            let high: Vec<Literal> = problem
+                .open_init
+                .iter()
+                .filter(|l| l.term.callable().is_none_or(|key| !arm.contains(&key)))
+                .cloned()
+                .collect();
+            let vars = problem.vars.clone();
+            for literal in high {
+                self.open_init_warning(&literal, &vars);
             }
         }
     }
 
-    /// E0209 on `literal`.
-    fn non_ground_init(&mut self, literal: &Literal, vars: &VarTable) {
-        {
-            let mut diagnostic = Diagnostic::error(codes::NON_GROUND_INIT, "an initial state fact must be ground")
-                .primary(literal.span, "this fact has a variable");
-            let mut seen = Vec::new();
-            literal.term.for_each_var(&mut |v| seen.push(v));
-            for v in seen {
-                let info = vars.get(v);
-                if let Some(&at) =
-                    info.occurrences.iter().find(|s| literal.span.start <= s.start && s.end <= literal.span.end)
-                {
-                    let name = self.interner.resolve(info.name);
-                    diagnostic = diagnostic.secondary(at, format!("`{name}` is a variable"));
-                }
+    /// W0015 on `literal`.
+    fn open_init_warning(&mut self, literal: &Literal, vars: &VarTable) {
+        let mut diagnostic = Diagnostic::warning(codes::OPEN_INIT, "an initial state fact with a variable")
+            .primary(literal.span, "this fact has a variable");
+        let mut seen = Vec::new();
+        literal.term.for_each_var(&mut |v| {
+            if !seen.contains(&v) {
+                seen.push(v)
             }
-            self.diags.push(
-                diagnostic
-                    .with_note("the initial state lists what is true, so every argument must be known")
-                    .with_help("replace the variable with a value; atoms start with a lower-case letter")
-                    .with_note("only facts of the arm level (predicates of `ll_action/6`s) may have variables"),
-            );
+        });
+        let mut names = Vec::new();
+        for v in seen {
+            let info = vars.get(v);
+            let name = self.interner.resolve(info.name).to_string();
+            if let Some(&at) =
+                info.occurrences.iter().find(|s| literal.span.start <= s.start && s.end <= literal.span.end)
+            {
+                diagnostic = diagnostic.secondary(at, format!("`{name}` is a variable"));
+            }
+            names.push(name);
         }
+        let them = if names.len() == 1 { "it" } else { "each" };
+        self.diags.push(
+            diagnostic
+                .with_note("the initial state lists what is true, so every argument is usually known")
+                .with_note(format!(
+                    "as in Prolog, the plan may give {them} a value: kbc tries a value of its own first \
+                     (the variable left unbound), then each atom and integer of the KB"
+                ))
+                .with_help("replace the variable with a value; atoms start with a lower-case letter"),
+        );
     }
 
     fn add_problem(&mut self, problem: Problem) {

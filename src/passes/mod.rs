@@ -4,7 +4,8 @@
 //!
 //! - [`load`]: files and their includes to parsed clauses in program order;
 //! - [`lower`]: clauses to the resolved KB (HIR);
-//! - [`check`]: whole-KB checks on the HIR.
+//! - [`check`]: whole-KB checks on the HIR;
+//! - [`open_init`]: the values tried for the variables of a problem's initial facts.
 //!
 //! No pass does IO: included files arrive through a [`load::SourceLoader`].
 
@@ -12,6 +13,7 @@ pub mod bt;
 pub mod check;
 pub mod load;
 pub mod lower;
+pub mod open_init;
 pub mod pop;
 pub mod reassign;
 pub mod refine;

@@ -198,12 +198,28 @@ pub struct Searched {
 }
 
 /// Why a search found no plan.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct SearchFailed {
     /// Why.
     pub failure: Failure,
     /// What the search did.
     pub stats: Stats,
+    /// The problem searched: the one asked for, or for a problem whose initial facts have
+    /// variables, its first grounding ([`Session::groundings`]).
+    pub problem: usize,
+    /// For a problem whose initial facts have variables: how many of its groundings were
+    /// searched, none with a plan.
+    pub groundings_tried: usize,
+}
+
+/// The ground problems a problem with variables in its high-level initial facts stands for
+/// (warning W0015, [`crate::passes::open_init`]).
+#[derive(Debug)]
+pub struct Grounded {
+    /// Their indices in the KB's problems, in the order they are tried.
+    pub problems: Vec<usize>,
+    /// The variables and the value each grounding gives them.
+    pub groundings: crate::passes::open_init::Groundings,
 }
 
 /// What [`Session::search`] gives: the plans found, or why there are none.
@@ -327,6 +343,8 @@ pub struct Session {
     plans: Vec<(usize, PlanSettings, Rc<Planned>)>,
     /// Per high-level problem, its arm-level problem's index ([`Session::arm_problem`]).
     arm_problems: Vec<(usize, usize)>,
+    /// Per problem asked about, its groundings ([`Session::groundings`]).
+    groundings: Vec<(usize, Option<Rc<Grounded>>)>,
 }
 
 impl Session {
@@ -371,6 +389,7 @@ impl Session {
             searches: Vec::new(),
             plans: Vec::new(),
             arm_problems: Vec::new(),
+            groundings: Vec::new(),
         }
     }
 
@@ -474,8 +493,32 @@ impl Session {
         self.programs[problem].get_or_insert_with(|| Rc::new(planner::program_for(&self.frontend.kb, problem))).clone()
     }
 
-    /// The planning task of `problem`, verified.
+    /// The problems that `problem` stands for when its high-level initial facts have variables
+    /// (W0015): ground copies, one per value of the variables, added to the KB the first time
+    /// this is asked, in the order they are tried. `None` for a problem without such facts.
+    pub fn groundings(&mut self, problem: usize) -> Option<Rc<Grounded>> {
+        if let Some((_, grounded)) = self.groundings.iter().find(|(p, _)| *p == problem) {
+            return grounded.clone();
+        }
+        let found = crate::passes::open_init::groundings(&self.frontend.kb, &mut self.frontend.interner, problem);
+        let grounded = found.map(|mut groundings| {
+            let problems = std::mem::take(&mut groundings.problems).into_iter().map(|p| self.add_problem(p)).collect();
+            Rc::new(Grounded { problems, groundings })
+        });
+        self.groundings.push((problem, grounded.clone()));
+        grounded
+    }
+
+    /// The ground problem that stands for `problem` where one is needed without a plan (a
+    /// task to print or export, a plan's duration): its first grounding, or itself.
+    fn representative(&mut self, problem: usize) -> usize {
+        self.groundings(problem).map_or(problem, |g| g.problems[0])
+    }
+
+    /// The planning task of `problem` (of its first grounding when its initial facts have
+    /// variables), verified.
     pub fn task(&mut self, problem: usize) -> &mut Task {
+        let problem = self.representative(problem);
         self.grow();
         let kb = &self.frontend.kb;
         self.tasks[problem].get_or_insert_with(|| {
@@ -502,6 +545,11 @@ impl Session {
     pub fn search(&mut self, problem: usize, settings: &PlanSettings, progress: &mut dyn Progress) -> SearchResult {
         if let Some((_, _, found)) = self.searches.iter().find(|(p, s, _)| *p == problem && s == settings) {
             return found.clone();
+        }
+        if let Some(grounded) = self.groundings(problem) {
+            let found = self.search_groundings(&grounded, settings, progress);
+            self.searches.push((problem, settings.clone(), found.clone()));
+            return found;
         }
         let program = self.program(problem);
         self.task(problem);
@@ -530,10 +578,38 @@ impl Session {
                 }
                 Ok(Rc::new(Searched { plans, stats: outcome.stats }))
             }
-            Err(failure) => Err(Rc::new(SearchFailed { failure, stats: outcome.stats })),
+            Err(failure) => Err(Rc::new(SearchFailed { failure, stats: outcome.stats, problem, groundings_tried: 1 })),
         };
         self.searches.push((problem, settings.clone(), found.clone()));
         found
+    }
+
+    /// Searches the groundings of a problem whose initial facts have variables, in order, and
+    /// gives the first plans found (their problem is that grounding). Without any: the first
+    /// grounding's failure, unless a budget ran out, which ends the tries there.
+    fn search_groundings(
+        &mut self,
+        grounded: &Grounded,
+        settings: &PlanSettings,
+        progress: &mut dyn Progress,
+    ) -> SearchResult {
+        let mut first: Option<Rc<SearchFailed>> = None;
+        let mut tried = 0;
+        for &problem in &grounded.problems {
+            tried += 1;
+            match self.search(problem, settings, progress) {
+                Ok(found) => return Ok(found),
+                Err(failed) => {
+                    let budget = matches!(failed.failure, Failure::Budget(_));
+                    first.get_or_insert(failed);
+                    if budget {
+                        break;
+                    }
+                }
+            }
+        }
+        let first = first.expect("a problem has at least one grounding");
+        Err(Rc::new(SearchFailed { groundings_tried: tried, ..(*first).clone() }))
     }
 
     /// The diagnostic that says why the search for `problem` failed; `figures` describes what
@@ -545,11 +621,14 @@ impl Session {
         figures: &str,
         settings: &PlanSettings,
     ) -> Diagnostic {
+        let asked = problem;
+        let problem = failed.problem;
         self.task(problem);
+        let grounded = self.groundings(asked);
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
         let task = self.tasks[problem].as_ref().expect("built above");
         let name = interner.resolve(kb.problems[problem].name).to_string();
-        planner::failure_diagnostic(
+        let diagnostic = planner::failure_diagnostic(
             kb,
             interner,
             task,
@@ -558,7 +637,13 @@ impl Session {
             &failed.stats,
             figures,
             &settings.options(),
-        )
+        );
+        match grounded {
+            Some(grounded) => {
+                diagnostic.with_note(groundings_note(kb, interner, asked, &grounded, failed.groundings_tried))
+            }
+            None => diagnostic,
+        }
     }
 
     /// A scheduled plan for `problem`: found by the search (or read from
@@ -595,7 +680,9 @@ impl Session {
                 }
             },
         };
-        let planned = Rc::new(self.schedule_best(problem, plans, origin, stats, settings)?);
+        // A grounding of `problem` (W0015) when its initial facts have variables.
+        let ground = plans.first().map_or(problem, |plan| plan.problem);
+        let planned = Rc::new(self.schedule_best(ground, plans, origin, stats, settings)?);
         self.plans.push((problem, settings.clone(), planned.clone()));
         Ok(planned)
     }
@@ -791,11 +878,37 @@ impl Session {
     fn read_plan(&mut self, problem: usize, file: FileId) -> Result<Plan, PlanError> {
         let steps = self.read_plan_steps(file).ok_or(PlanError::PlanFile)?;
         // As a total order, even when it has times: the schedule is made again.
-        let program = self.program(problem);
-        let verdict = crate::validate::validate(&self.frontend.kb, &self.frontend.interner, &program, problem, &steps);
+        let verdict = self.replay(problem, &steps, false);
         let errors = verdict.diagnostics.has_errors();
         self.diagnostics.extend(verdict.diagnostics);
         if errors { Err(PlanError::PlanFile) } else { Ok(verdict.plan) }
+    }
+
+    /// Replays `steps` on `problem` with the independent validator, timed or as a total order.
+    /// A problem whose initial facts have variables (W0015) is replayed on each grounding in
+    /// turn: the first that accepts the plan is the verdict, else the one that got furthest.
+    fn replay(&mut self, problem: usize, steps: &[crate::validate::PlanStep], timed: bool) -> crate::validate::Verdict {
+        let problems = match self.groundings(problem) {
+            Some(grounded) => grounded.problems.clone(),
+            None => vec![problem],
+        };
+        let mut best: Option<crate::validate::Verdict> = None;
+        for problem in problems {
+            let program = self.program(problem);
+            let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+            let verdict = if timed {
+                crate::validate::validate_timed(kb, interner, &program, problem, steps)
+            } else {
+                crate::validate::validate(kb, interner, &program, problem, steps)
+            };
+            if !verdict.diagnostics.has_errors() {
+                return verdict;
+            }
+            if best.as_ref().is_none_or(|b| verdict.applied > b.applied) {
+                best = Some(verdict);
+            }
+        }
+        best.expect("a problem has at least one grounding")
     }
 
     /// The steps of a plan file (a total order, or a timed plan), or `None` with the reasons
@@ -812,17 +925,10 @@ impl Session {
     /// Replays `steps` on `problem` with the independent validator (the timed one when the
     /// steps have times); its diagnostics also go to the sink.
     pub fn validate(&mut self, problem: usize, steps: &[crate::validate::PlanStep]) -> crate::validate::Verdict {
-        let program = self.program(problem);
-        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let timed = steps.first().is_some_and(|s| s.timing.is_some());
         let verdict = timing::time(
             "validate",
-            || {
-                if steps.first().is_some_and(|s| s.timing.is_some()) {
-                    crate::validate::validate_timed(kb, interner, &program, problem, steps)
-                } else {
-                    crate::validate::validate(kb, interner, &program, problem, steps)
-                }
-            },
+            || self.replay(problem, steps, timed),
             |verdict| {
                 let found = if verdict.diagnostics.has_errors() { "invalid" } else { "valid" };
                 format!("{found}, {} steps", steps.len())
@@ -838,6 +944,7 @@ impl Session {
         problem: usize,
         options: crate::render::pddl::Options,
     ) -> Option<crate::render::pddl::Export> {
+        let problem = self.representative(problem);
         let program = self.program(problem);
         self.task(problem);
         let task = self.tasks[problem].as_mut().expect("built above");
@@ -1012,6 +1119,7 @@ impl Session {
 
     /// Prints the planning task of `problem`.
     pub fn dump_task(&mut self, problem: usize, out: &mut dyn Write) -> std::io::Result<()> {
+        let problem = self.representative(problem);
         self.task(problem);
         let task = self.tasks[problem].as_ref().expect("built above");
         out.write_all(crate::ir::task::print(&self.frontend.interner, &self.frontend.kb, task).as_bytes())
@@ -1049,6 +1157,27 @@ impl Session {
     pub fn into_parts(self) -> (SourceDb, Frontend, Diagnostics) {
         (self.db, self.frontend, self.diagnostics)
     }
+}
+
+/// What a failed search tried for the variables of the initial state of `problem`.
+fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grounded, tried: usize) -> String {
+    let vars = &kb.problems[problem].vars;
+    let names: Vec<String> =
+        grounded.groundings.vars.iter().map(|&v| format!("`{}`", interner.resolve(vars.get(v).name))).collect();
+    let no_vars = crate::ir::hir::VarTable::default();
+    let first: Vec<String> = grounded.groundings.values[0]
+        .iter()
+        .map(|value| format!("`{}`", crate::ir::hir::term_to_string(interner, value, &no_vars)))
+        .collect();
+    let all = grounded.groundings.total;
+    let of_all = if all == tried as u128 { format!("all {all}") } else { format!("{tried} of the {all}") };
+    let (them, values) = if names.len() == 1 { ("variable", "values") } else { ("variables", "groundings") };
+    format!(
+        "the initial state's {them} {} took {of_all} {values} kbc tries (W0015), none with a plan; \
+         the reason above is for the first, {}",
+        names.join(", "),
+        first.join(", ")
+    )
 }
 
 /// A search's figures in one line, with the process's peak memory where the system reports it.

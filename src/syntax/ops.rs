@@ -88,7 +88,12 @@ pub fn is_operator(name: Symbol) -> bool {
 
 /// Writes an atom, quoted when it would not read back as the same atom.
 pub fn write_atom(out: &mut String, interner: &Interner, name: Symbol) {
-    let text = interner.resolve(name);
+    write_atom_text(out, interner.resolve(name));
+}
+
+/// Writes the atom named `text`, quoted when it would not read back as the same atom (`'_A'`,
+/// `'a b'`).
+pub fn write_atom_text(out: &mut String, text: &str) {
     if atom_needs_quotes(text) {
         out.push('\'');
         for c in text.chars() {
