@@ -145,6 +145,7 @@ pub fn search(
     {
         let (machine, cache) = successors.parts();
         if let Err(stop) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
+            relaxation.discard();
             return Outcome::failed(stop.into(), stats);
         }
     }

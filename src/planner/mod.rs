@@ -254,7 +254,9 @@ pub fn search_scored(
         let mut relaxation = relaxed::Relaxation::new(task);
         relaxation.limit(options.budget.deadline, options.budget.max_bytes);
         let (machine, cache) = successors.parts();
-        relaxation.evaluate(task, &init, machine, cache, false)
+        let estimate = relaxation.evaluate(task, &init, machine, cache, false);
+        relaxation.discard();
+        estimate
     };
     match root {
         // The root check only looks for a goal that can never be reached; the paper's search

@@ -220,8 +220,20 @@ struct Limits {
     max_bytes: usize,
     /// Join steps since the last look at the clock.
     ticks: u32,
-    /// Set when a table would have grown beyond `max_bytes`.
-    exhausted: bool,
+    /// Set when a table would have grown beyond `max_bytes` (memory), or when growing one
+    /// would take past the deadline (time).
+    exhausted: Option<BudgetKind>,
+    /// The time one entry of a lookup table took to move when the last one grew, in
+    /// nanoseconds: growing a table of tens of millions of entries takes seconds, so the next
+    /// growth is predicted from it and not begun if it would end past the deadline.
+    rehash_ns: f64,
+}
+
+impl Limits {
+    fn new(deadline: Option<std::time::Instant>, max_bytes: usize) -> Limits {
+        // A guess until a growth is measured; a rehash moves an entry in some tens of ns.
+        Limits { deadline, max_bytes, ticks: 0, exhausted: None, rehash_ns: 20.0 }
+    }
 }
 
 /// How often (in join steps) an exploration checks its budget: a few microseconds of work
@@ -336,7 +348,7 @@ impl Relaxation {
             ground: None,
             negated_views: Vec::new(),
             landmarks: None,
-            limits: Limits { deadline: None, max_bytes: usize::MAX, ticks: 0, exhausted: false },
+            limits: Limits::new(None, usize::MAX),
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
@@ -533,7 +545,7 @@ impl Relaxation {
     }
 
     fn relax(&mut self, view: u32, values: &[ConstId], cost: u32, support: Support) {
-        if self.limits.exhausted {
+        if self.limits.exhausted.is_some() {
             return;
         }
         let table = &self.tables[view as usize];
@@ -542,9 +554,13 @@ impl Relaxation {
             // before the allocation rather than after it.
             let growth = table.footprint() + self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>();
             if self.footprint() + growth > self.limits.max_bytes {
-                self.limits.exhausted = true;
+                self.limits.exhausted = Some(BudgetKind::Memory);
                 return;
             }
+        }
+        if table.lookup.len() == table.lookup.capacity() && !self.grow_lookup(view) {
+            self.limits.exhausted = Some(BudgetKind::Time);
+            return;
         }
         let table = &mut self.tables[view as usize];
         let (t, _) = table.find_or_insert(&self.hasher, values);
@@ -554,6 +570,37 @@ impl Relaxation {
         table.cost[t as usize] = cost;
         table.support[t as usize] = support;
         self.queue.push(Reverse((cost, view, t)));
+    }
+
+    /// Doubles the lookup table of `view`, which is full, unless the time that takes (predicted
+    /// from the last growth) would end past the deadline: then `false`. Growing it here rather
+    /// than inside an insertion is what lets the budget see it coming.
+    fn grow_lookup(&mut self, view: u32) -> bool {
+        let Some(deadline) = self.limits.deadline else { return true };
+        let table = &mut self.tables[view as usize];
+        let entries = table.lookup.len();
+        if entries < 1 << 16 {
+            return true; // milliseconds at most
+        }
+        let now = std::time::Instant::now();
+        let predicted = std::time::Duration::from_nanos((self.limits.rehash_ns * entries as f64) as u64);
+        if now + predicted >= deadline {
+            return false;
+        }
+        let (hasher, arity, store) = (&self.hasher, table.arity, &table.values);
+        table.lookup.reserve(entries, |&u| hasher.hash_one(&store[u as usize * arity..(u as usize + 1) * arity]));
+        self.limits.rehash_ns = now.elapsed().as_nanos() as f64 / entries as f64;
+        true
+    }
+
+    /// Frees the relaxation, a large one on another thread. One that ran out of budget may hold a gigabyte
+    /// in millions of allocations, and freeing them can take a second: past the deadline, the
+    /// caller should not wait for it. (A process that exits first just leaves it to the OS.)
+    pub fn discard(self) {
+        if self.footprint() < 64 << 20 {
+            return; // dropped here, quickly
+        }
+        let _ = std::thread::Builder::new().name("kbc-free".into()).spawn(move || drop(self));
     }
 
     /// Offers a full fact to every view of its predicate.
@@ -684,7 +731,7 @@ impl Relaxation {
     /// gives up grounding once its recorded instantiations would take more than half of
     /// `max_bytes`, and evaluation stays lifted (slower per state, but within memory).
     pub fn limit(&mut self, deadline: Option<std::time::Instant>, max_bytes: usize) {
-        self.limits = Limits { deadline, max_bytes, ticks: 0, exhausted: false };
+        self.limits = Limits::new(deadline, max_bytes);
     }
 
     /// The bytes the exploration tables, and while grounding the recorded instantiations, hold.
@@ -698,8 +745,8 @@ impl Relaxation {
     /// Counts one step of work and, every [`CHECK_EVERY`] steps, checks the budget. Grounding
     /// that has given up also stops the exploration: the rest of it would be wasted.
     fn tick(&mut self) -> Result<(), Stop> {
-        if self.limits.exhausted {
-            return Err(Stop::Budget(BudgetKind::Memory));
+        if let Some(kind) = self.limits.exhausted {
+            return Err(Stop::Budget(kind));
         }
         self.limits.ticks += 1;
         if self.limits.ticks < CHECK_EVERY {
@@ -860,7 +907,7 @@ impl Relaxation {
         plan: bool,
         stop_at_goal: bool,
     ) -> Result<Estimate, Stop> {
-        self.limits.exhausted = false;
+        self.limits.exhausted = None;
         for table in &mut self.tables {
             table.clear();
         }
