@@ -59,12 +59,15 @@ pub(super) fn run(args: ValidateArgs, color: bool) -> ExitCode {
     let message = if timed {
         let makespan = steps.iter().filter_map(|s| s.timing.map(|(t, d)| t + d.unwrap_or(0))).max().unwrap_or(0);
         format!(
-            "the timed plan is valid: its {} actions reach the goal of `{problem_name}` at {}",
-            steps.len(),
+            "the timed plan is valid: in {} it reaches the goal of `{problem_name}` at {}",
+            crate::diag::plural(steps.len(), "action"),
             crate::ir::stn::format_time(makespan)
         )
     } else {
-        format!("the plan is valid: its {} steps reach the goal of `{problem_name}`", steps.len())
+        format!(
+            "the plan is valid: in {} it reaches the goal of `{problem_name}`",
+            crate::diag::plural(steps.len(), "step")
+        )
     };
     match args.message_format {
         MessageFormat::Human => println!("{message}"),

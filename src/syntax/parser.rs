@@ -44,6 +44,11 @@ pub fn fold_xfy((first, rest): XfyChain) -> Term {
     while let Some((previous_op, operand)) = rest.pop() {
         acc = Term::infix(op.0, op.1, operand, acc);
         op = previous_op;
+        // Give back the chain's memory as the tree takes over its operands: a chain of a
+        // million operands is 48 MB.
+        if rest.capacity() > 1 << 12 && rest.len() < rest.capacity() / 4 {
+            rest.shrink_to(rest.len() * 2);
+        }
     }
     Term::infix(op.0, op.1, first, acc)
 }
@@ -162,7 +167,15 @@ impl Iterator for ClauseStream<'_> {
             return None;
         }
         self.next += 1;
-        Some(self.buffer[self.next - 1])
+        let token = self.buffer[self.next - 1];
+        if self.next == self.buffer.len() && self.buffer.capacity() > 1 << 16 {
+            // The clause's last token: the parser reduces the clause after reading it, and a
+            // huge clause's tokens (a body of a million goals: 64 MB) need not stay allocated
+            // while it builds the tree.
+            self.buffer = Vec::with_capacity(64);
+            self.next = 0;
+        }
+        Some(token)
     }
 }
 
