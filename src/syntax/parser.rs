@@ -315,8 +315,8 @@ fn canonical_term(file: FileId, tokens: &[Token], position: &mut usize, depth: u
     let kind = match token.tok {
         Tok::Name(s) | Tok::SymbolAtom(s) => TermKind::Atom(s),
         Tok::Var(s) => TermKind::Var(s),
-        Tok::Int(i) => TermKind::Int(i),
-        Tok::Float(f) => TermKind::Float(f),
+        Tok::Int(i) => TermKind::Int(i.as_int()),
+        Tok::Float(f) => TermKind::Float(f.as_float()),
         Tok::Str(s) => TermKind::Str(s),
         Tok::Functor(functor) if depth < CANONICAL_DEPTH => {
             if tokens.get(*position)?.tok != Tok::Open {
