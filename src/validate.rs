@@ -275,6 +275,15 @@ fn lower_ground(term: &ast::Term) -> Option<Term> {
         ast::TermKind::Int(i) => Term::Int(*i),
         ast::TermKind::Float(f) => Term::Float(*f),
         ast::TermKind::Str(s) => Term::Str(*s),
+        // A flat chain is the right-nested binary term it stands for.
+        ast::TermKind::Compound(c) if c.notation == ast::Notation::Chain => {
+            let mut operands = c.args.iter().map(lower_ground).collect::<Option<Vec<Term>>>()?;
+            let mut acc = operands.pop()?;
+            while let Some(operand) = operands.pop() {
+                acc = Term::Compound(c.functor, Box::new([operand, acc]));
+            }
+            acc
+        }
         ast::TermKind::Compound(c) => {
             Term::Compound(c.functor, c.args.iter().map(lower_ground).collect::<Option<_>>()?)
         }

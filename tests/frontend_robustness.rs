@@ -286,3 +286,44 @@ proptest! {
         run_frontend(&text)?;
     }
 }
+
+/// A `,` chain of three or more is kept flat in the syntax tree (a body of a million goals is
+/// one node); it must mean exactly the right-nested term Prolog reads: as data, as a body, in
+/// a declaration, and printed back.
+#[test]
+fn a_flat_comma_chain_means_the_nested_term() {
+    let text = "p((a, b, c, d)).\n\
+                p((a, (b, (c, d)))).\n\
+                s :- a, (b, c), d.\n\
+                v :- a, ((b, c), d).\n\
+                u :- a, b, c, d.\n\
+                a. b. c. d.\n\
+                :- dynamic e/1, f/2, g/3.\n";
+    let session = kbc::session::Session::from_text("chain.pl", text);
+    assert!(!session.has_errors(), "{:?}", common::messages(session.diagnostics()));
+    let kb = session.kb();
+    let named = |name: &str| -> Vec<&kbc::ir::hir::Clause> {
+        kb.clauses.iter().filter(|c| session.interner().resolve(c.head.name()) == name).collect()
+    };
+    let facts = named("p");
+    assert_eq!(facts.len(), 2);
+    assert_eq!(facts[0].head.term, facts[1].head.term, "a flat chain as data is the nested term");
+    // The shape of a body: its conjunctions and calls, without spans.
+    fn shape(goal: &kbc::ir::hir::Goal) -> String {
+        match goal {
+            kbc::ir::hir::Goal::And(goals) => format!("and({})", goals.iter().map(shape).collect::<Vec<_>>().join(",")),
+            kbc::ir::hir::Goal::Call(_) => "call".into(),
+            other => format!("{other:?}"),
+        }
+    }
+    let body = |name: &str| shape(named(name)[0].body.as_deref().expect("a rule"));
+    assert_eq!(body("s"), body("v"), "a chain with a parenthesised conjunction in it");
+    assert_eq!(body("s"), "and(call,and(call,call),call)");
+    assert_eq!(body("u"), "and(call,call,call,call)");
+    let declared: Vec<&str> = kb.declarations.iter().map(|d| session.interner().resolve(d.name)).collect();
+    assert_eq!(declared, ["e", "f", "g"]);
+    let mut interner = Interner::new();
+    let mut diags = kbc::diag::Diagnostics::new();
+    let ast = parse_source(kbc::source::FileId(0), "x :- a, b, (c ; d), e.\n", &mut interner, &mut diags);
+    assert_eq!(printer::print_source(&interner, &ast).trim(), "x :- a, b, (c ; d), e.");
+}

@@ -165,6 +165,15 @@ impl Lowerer<'_> {
             TermKind::Int(i) => hir::Term::Int(*i),
             TermKind::Float(f) => hir::Term::Float(*f),
             TermKind::Str(s) => hir::Term::Str(*s),
+            // A flat chain is the right-nested binary term it stands for.
+            TermKind::Compound(c) if c.notation == ast::Notation::Chain => {
+                let mut operands: Vec<hir::Term> = c.args.iter().map(|a| self.term(a, scope)).collect();
+                let mut acc = operands.pop().expect("a chain has operands");
+                while let Some(operand) = operands.pop() {
+                    acc = hir::Term::Compound(c.functor, Box::new([operand, acc]));
+                }
+                acc
+            }
             TermKind::Compound(c) => {
                 hir::Term::Compound(c.functor, c.args.iter().map(|a| self.term(a, scope)).collect())
             }
@@ -228,22 +237,11 @@ impl Lowerer<'_> {
 
     fn goal(&mut self, t: &ast::Term, scope: &mut Scope) -> Option<Goal> {
         if let TermKind::Compound(c) = &t.kind {
-            match (c.functor, c.args.len()) {
+            match (c.functor, t.callable().map_or(0, |(_, arity)| arity)) {
                 (sym::COMMA, 2) => {
-                    let mut goals = Vec::new();
-                    let mut rest = t;
-                    loop {
-                        match rest.as_compound(sym::COMMA, 2) {
-                            Some(pair) => {
-                                goals.push(self.goal(&pair.args[0], scope));
-                                rest = &pair.args[1];
-                            }
-                            None => {
-                                goals.push(self.goal(rest, scope));
-                                break;
-                            }
-                        }
-                    }
+                    // However the conjunction is written (flat, nested to the right): its goals.
+                    let goals: Vec<Option<Goal>> =
+                        t.xfy_operands(sym::COMMA).into_iter().map(|g| self.goal(g, scope)).collect();
                     return goals.into_iter().collect::<Option<Vec<_>>>().map(Goal::And);
                 }
                 (sym::SEMI, 2) => {
@@ -326,9 +324,10 @@ impl Lowerer<'_> {
 
     fn declarations(&mut self, kind: DeclarationKind, spec: &ast::Term) {
         match &spec.kind {
-            TermKind::Compound(c) if c.functor == sym::COMMA && c.args.len() == 2 => {
-                self.declarations(kind, &c.args[0]);
-                self.declarations(kind, &c.args[1]);
+            TermKind::Compound(c) if c.functor == sym::COMMA && spec.callable() == Some((sym::COMMA, 2)) => {
+                for item in spec.xfy_operands(sym::COMMA) {
+                    self.declarations(kind, item);
+                }
             }
             TermKind::List(l) if l.tail.is_none() => l.items.iter().for_each(|item| self.declarations(kind, item)),
             TermKind::Compound(c) if c.functor == sym::SLASH && c.args.len() == 2 => {

@@ -44,6 +44,16 @@ pub enum TermKind {
     Error,
 }
 
+/// The right operand of a binary operator term: a term, or the tail of a flat chain (two
+/// operands or more, standing for their right-nested chain).
+#[derive(Clone, Copy, Debug)]
+pub enum Operand<'a> {
+    /// A term.
+    Term(&'a Term),
+    /// The operands of the chain `functor` after the first.
+    Chain(Symbol, &'a [Term]),
+}
+
 /// How a compound was written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Notation {
@@ -53,6 +63,11 @@ pub enum Notation {
     Infix,
     /// `- a`, `\+ a`, `:- a`.
     Prefix,
+    /// `a, b, c, ...`: an xfy operator chain of three operands or more, kept flat. It stands
+    /// for the right-nested binary term `','(a, ','(b, c))`: the compound's arity (as
+    /// [`Term::callable`] reports it) is 2, and [`Term::binary`] gives the two arguments.
+    /// Only `,` chains are kept flat.
+    Chain,
 }
 
 /// A compound term.
@@ -126,20 +141,73 @@ impl Term {
         Term { kind: TermKind::Compound(Box::new(Compound { functor, functor_span, args, notation })), span }
     }
 
-    /// The name and arity if this is an atom or compound (a callable term).
+    /// A flat xfy chain `a op b op c ...` of three operands or more ([`Notation::Chain`]).
+    pub fn chain(op: Symbol, op_span: Span, operands: Vec<Term>, span: Span) -> Term {
+        Term::compound(op, op_span, operands, Notation::Chain, span)
+    }
+
+    /// The name and arity if this is an atom or compound (a callable term). A flat chain is
+    /// binary.
     pub fn callable(&self) -> Option<(Symbol, usize)> {
         match &self.kind {
             TermKind::Atom(name) => Some((*name, 0)),
+            TermKind::Compound(c) if c.notation == Notation::Chain => Some((c.functor, 2)),
             TermKind::Compound(c) => Some((c.functor, c.args.len())),
             _ => None,
         }
     }
 
-    /// The compound if this is one with the given functor and arity.
+    /// The compound if this is one with the given functor and arity, written as one (a flat
+    /// chain is not: see [`Term::binary`]).
     pub fn as_compound(&self, functor: Symbol, arity: usize) -> Option<&Compound> {
         match &self.kind {
-            TermKind::Compound(c) if c.functor == functor && c.args.len() == arity => Some(c),
+            TermKind::Compound(c) if c.functor == functor && c.args.len() == arity && c.notation != Notation::Chain => {
+                Some(c)
+            }
             _ => None,
+        }
+    }
+
+    /// If this is `functor(A, B)` (written so, or as a chain `a, b, c`): its operands, the
+    /// first and the rest. The rest of a chain of more than two is the chain's tail, which is
+    /// not a term of its own here; [`Operand`] names it.
+    pub fn binary(&self, functor: Symbol) -> Option<(&Term, Operand<'_>)> {
+        match &self.kind {
+            TermKind::Compound(c) if c.functor == functor && c.args.len() == 2 => {
+                Some((&c.args[0], Operand::Term(&c.args[1])))
+            }
+            TermKind::Compound(c) if c.functor == functor && c.notation == Notation::Chain => {
+                Some((&c.args[0], Operand::Chain(functor, &c.args[1..])))
+            }
+            _ => None,
+        }
+    }
+
+    /// The operands of an xfy chain of `functor`, left to right, however it is written:
+    /// `a, (b, c), d` gives `a`, `b`, `c`, `d` (the nesting to the right is the same term).
+    /// A term that is no such chain is its own only operand.
+    pub fn xfy_operands(&self, functor: Symbol) -> Vec<&Term> {
+        let mut operands = Vec::new();
+        let mut rest = Operand::Term(self);
+        loop {
+            match rest {
+                Operand::Term(t) => match t.binary(functor) {
+                    Some((first, tail)) => {
+                        operands.push(first);
+                        rest = tail;
+                    }
+                    None => {
+                        operands.push(t);
+                        return operands;
+                    }
+                },
+                Operand::Chain(_, [last]) => rest = Operand::Term(last),
+                Operand::Chain(f, [first, tail @ ..]) => {
+                    operands.push(first);
+                    rest = Operand::Chain(f, tail);
+                }
+                Operand::Chain(_, []) => return operands,
+            }
         }
     }
 

@@ -32,25 +32,56 @@ lalrpop_util::lalrpop_mod!(
     "/kb.rs"
 );
 
-/// An xfy operator chain `a op1 b op2 c ...` as the grammar reads it: the first operand, then
-/// each operator (name and span) with the operand after it.
-pub type XfyChain = (Term, Vec<((Symbol, Span), Term)>);
+/// An xfy operator chain `a op1 b op2 c ...` as the grammar reads it: the operands, and the
+/// operators (name and span) between them.
+pub struct XfyChain {
+    operands: Vec<Term>,
+    ops: Vec<(Symbol, Span)>,
+}
+
+impl XfyChain {
+    /// The chain `a op b`.
+    pub fn new(a: Term, op: (Symbol, Span), b: Term) -> XfyChain {
+        XfyChain { operands: vec![a, b], ops: vec![op] }
+    }
+
+    /// The chain with `op b` after it.
+    pub fn push(mut self, op: (Symbol, Span), b: Term) -> XfyChain {
+        self.operands.push(b);
+        self.ops.push(op);
+        self
+    }
+}
 
 /// An [`XfyChain`] folded to the right: `a op1 (b op2 c)`. A loop, so a chain of any length
 /// costs no stack.
-pub fn fold_xfy((first, rest): XfyChain) -> Term {
-    let mut rest = rest;
-    let Some((mut op, mut acc)) = rest.pop() else { return first };
-    while let Some((previous_op, operand)) = rest.pop() {
+pub fn fold_xfy(chain: XfyChain) -> Term {
+    let XfyChain { mut operands, mut ops } = chain;
+    let mut acc = operands.pop().expect("a chain has two operands or more");
+    while let (Some(operand), Some(op)) = (operands.pop(), ops.pop()) {
         acc = Term::infix(op.0, op.1, operand, acc);
-        op = previous_op;
-        // Give back the chain's memory as the tree takes over its operands: a chain of a
-        // million operands is 48 MB.
-        if rest.capacity() > 1 << 12 && rest.len() < rest.capacity() / 4 {
-            rest.shrink_to(rest.len() * 2);
+        // Give back the chain's memory as the tree takes over its operands.
+        if operands.capacity() > 1 << 12 && operands.len() < operands.capacity() / 4 {
+            operands.shrink_to(operands.len() * 2);
         }
     }
-    Term::infix(op.0, op.1, first, acc)
+    acc
+}
+
+/// An [`XfyChain`] of one operator, kept flat when it has three operands or more: one compound
+/// with [`Notation::Chain`] (see there) instead of a nest of binary ones. A body of a million
+/// goals is then one node with a million arguments, not a million nodes a million deep.
+///
+/// [`Notation::Chain`]: super::ast::Notation::Chain
+pub fn flatten_xfy(chain: XfyChain) -> Term {
+    if chain.operands.len() == 2 {
+        return fold_xfy(chain);
+    }
+    let XfyChain { operands, ops } = chain;
+    let (functor, functor_span) = ops[0];
+    debug_assert!(ops.iter().all(|op| op.0 == functor), "a flat chain has one operator");
+    let span = operands[0].span.to(operands[operands.len() - 1].span);
+    Term::compound(functor, functor_span, operands, super::ast::Notation::Chain, span)
 }
 
 /// The lexer error type the grammar declares; never produced, since lexical problems are

@@ -23,6 +23,9 @@ pub enum View<'a, T> {
     Str(Symbol),
     /// A compound; `'[|]'(H, T)` prints as a list.
     Compound(Symbol, &'a [T]),
+    /// A flat xfy chain `a op b op c` of three operands or more (see
+    /// [`super::ast::Notation::Chain`]).
+    Chain(Symbol, &'a [T]),
     /// A list written as one, with items and an optional tail.
     List(&'a [T], Option<&'a T>),
     /// A recovered syntax error.
@@ -43,6 +46,7 @@ impl TermView for Term {
             TermKind::Int(i) => View::Int(*i),
             TermKind::Float(f) => View::Float(*f),
             TermKind::Str(s) => View::Str(*s),
+            TermKind::Compound(c) if c.notation == super::ast::Notation::Chain => View::Chain(c.functor, &c.args),
             TermKind::Compound(c) => View::Compound(c.functor, &c.args),
             TermKind::List(l) => View::List(&l.items, l.tail.as_deref()),
             TermKind::Error => View::Error,
@@ -94,6 +98,31 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
         }
         View::Error => out.push_str("<error>"),
         View::List(items, tail) => write_list(out, interner, items.iter(), tail),
+        View::Chain(functor, operands) => {
+            // As the right-nested binary term would print: every operand but the last at the
+            // left argument's limit, the last at the right one's.
+            let op = ops::infix(functor).expect("only operators form chains");
+            let (left, right) = op.argument_limits();
+            let parens = op.priority > max_priority;
+            if parens {
+                out.push('(');
+            }
+            for (i, operand) in operands.iter().enumerate() {
+                if i > 0 {
+                    if functor == sym::COMMA {
+                        out.push_str(", ");
+                    } else {
+                        out.push(' ');
+                        ops::write_atom(out, interner, functor);
+                        out.push(' ');
+                    }
+                }
+                write_term(out, interner, operand, if i + 1 == operands.len() { right } else { left });
+            }
+            if parens {
+                out.push(')');
+            }
+        }
         View::Compound(functor, args) => {
             if functor == sym::CONS && args.len() == 2 {
                 write_cons_list(out, interner, &args[0], &args[1]);
