@@ -33,22 +33,33 @@ lalrpop_util::lalrpop_mod!(
 );
 
 /// An xfy operator chain `a op1 b op2 c ...` as the grammar reads it: the operands, and the
-/// operators (name and span) between them.
+/// operators (name and span) between them. A chain that will stay flat ([`flatten_xfy`])
+/// keeps only its first operator: a body of a million goals need not hold a million spans.
 pub struct XfyChain {
     operands: Vec<Term>,
+    /// The operators in order; only the first for a chain made by [`XfyChain::flat`].
     ops: Vec<(Symbol, Span)>,
+    /// Whether every operator is kept.
+    all_ops: bool,
 }
 
 impl XfyChain {
-    /// The chain `a op b`.
+    /// The chain `a op b`, to be folded into binary terms ([`fold_xfy`]).
     pub fn new(a: Term, op: (Symbol, Span), b: Term) -> XfyChain {
-        XfyChain { operands: vec![a, b], ops: vec![op] }
+        XfyChain { operands: vec![a, b], ops: vec![op], all_ops: true }
+    }
+
+    /// The chain `a op b`, to be kept flat ([`flatten_xfy`]) when it grows to three operands.
+    pub fn flat(a: Term, op: (Symbol, Span), b: Term) -> XfyChain {
+        XfyChain { operands: vec![a, b], ops: vec![op], all_ops: false }
     }
 
     /// The chain with `op b` after it.
     pub fn push(mut self, op: (Symbol, Span), b: Term) -> XfyChain {
         self.operands.push(b);
-        self.ops.push(op);
+        if self.all_ops {
+            self.ops.push(op);
+        }
         self
     }
 }
@@ -56,7 +67,8 @@ impl XfyChain {
 /// An [`XfyChain`] folded to the right: `a op1 (b op2 c)`. A loop, so a chain of any length
 /// costs no stack.
 pub fn fold_xfy(chain: XfyChain) -> Term {
-    let XfyChain { mut operands, mut ops } = chain;
+    let XfyChain { mut operands, mut ops, all_ops } = chain;
+    debug_assert!(all_ops || operands.len() == 2, "a flat chain is folded only with two operands");
     let mut acc = operands.pop().expect("a chain has two operands or more");
     while let (Some(operand), Some(op)) = (operands.pop(), ops.pop()) {
         acc = Term::infix(op.0, op.1, operand, acc);
@@ -77,9 +89,8 @@ pub fn flatten_xfy(chain: XfyChain) -> Term {
     if chain.operands.len() == 2 {
         return fold_xfy(chain);
     }
-    let XfyChain { operands, ops } = chain;
+    let XfyChain { operands, ops, .. } = chain;
     let (functor, functor_span) = ops[0];
-    debug_assert!(ops.iter().all(|op| op.0 == functor), "a flat chain has one operator");
     let span = operands[0].span.to(operands[operands.len() - 1].span);
     Term::compound(functor, functor_span, operands, super::ast::Notation::Chain, span)
 }
