@@ -178,13 +178,19 @@ impl Lowerer<'_> {
                 hir::Term::Compound(c.functor, c.args.iter().map(|a| self.term(a, scope)).collect())
             }
             TermKind::List(l) => {
-                let items: Vec<hir::Term> = l.items.iter().map(|a| self.term(a, scope)).collect();
-                let mut list = match &l.tail {
-                    Some(tail) => self.term(tail, scope),
-                    None => hir::Term::Atom(sym::NIL),
-                };
-                for item in items.into_iter().rev() {
-                    list = hir::Term::Compound(sym::CONS, Box::new([item, list]));
+                // Cell by cell from the front, in source order (variables are numbered as they
+                // occur), without a second list of the items: a list of a million is 48 MB of
+                // cells already.
+                let mut list = hir::Term::Atom(sym::NIL);
+                let mut slot = &mut list;
+                for item in &l.items {
+                    let item = self.term(item, scope);
+                    *slot = hir::Term::Compound(sym::CONS, Box::new([item, hir::Term::Atom(sym::NIL)]));
+                    let hir::Term::Compound(_, cell) = slot else { unreachable!("just made a cell") };
+                    slot = &mut cell[1];
+                }
+                if let Some(tail) = &l.tail {
+                    *slot = self.term(tail, scope);
                 }
                 list
             }
