@@ -455,12 +455,14 @@ fn unified_planning_reads_the_export_and_validates_kbc_plans() {
     kbs.extend(write_rungs("export-up-ladder", kbc::ladder::all(), small));
     let mut cases = Vec::new();
     // The other examples that have a problem to plan (their own domains, durations and OnKB).
-    let examples: [&[&str]; 5] = [
+    let examples: [&[&str]; 6] = [
         &["examples/01_paper_tests/tests.pl", "--problem", "test3"],
         &["examples/03_paper_schema/kb.pl"],
         &["examples/04_split_kb/main.pl", "examples/04_split_kb/swap.pl"],
         &["examples/05_arm_refinement/kb.pl"],
         &["examples/06_partial_order/kb.pl"],
+        // A variable in the initial state (W0015): the export is the grounding the plan uses.
+        &["tests/corpus/llm_open_init.pl"],
     ];
     for (i, example) in examples.iter().enumerate() {
         let exported = export(example, &format!("up-example-{i}"), &["--durations", "bounded", "--with-plan"]);

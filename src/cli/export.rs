@@ -86,7 +86,40 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         },
         limit: args.limit,
     };
-    let Some(exported) = session.export_pddl(problem, options) else { return fail(&session) };
+    // A problem whose initial facts have variables (W0015) is exported as one of its ground
+    // copies: with a plan, the one the plan is for; without, the first (the variables' own
+    // values), which a warning names.
+    let settings = crate::session::PlanSettings { epsilon: args.epsilon, ..Default::default() };
+    let planned = if args.with_plan {
+        match session.plan(problem, &settings, &mut crate::planner::Silent) {
+            Ok(planned) => Some(planned),
+            Err(_) => return fail(&session),
+        }
+    } else {
+        None
+    };
+    let exported_problem = match &planned {
+        Some(planned) => planned.problem,
+        None => {
+            if let Some(grounded) = session.groundings(problem) {
+                let values: Vec<String> = grounded.groundings.values[0]
+                    .iter()
+                    .map(|v| crate::ir::hir::term_to_string(session.interner(), v, &Default::default()))
+                    .collect();
+                session.push(
+                    Diagnostic::warning(
+                        crate::diag::codes::EXPORT_LEAVES_OUT,
+                        "PDDL has no variables in an initial state: the problem is exported with \
+                         the variables' own values",
+                    )
+                    .with_note(format!("the initial state's variables are written as {}", values.join(", ")))
+                    .with_help("export with `--with-plan` to write the values kbc's plan uses"),
+                );
+            }
+            problem
+        }
+    };
+    let Some(exported) = session.export_pddl(exported_problem, options) else { return fail(&session) };
     if let Err(error) = std::fs::create_dir_all(&args.output) {
         session.push(Diagnostic::error(
             crate::diag::codes::UNREADABLE_FILE,
@@ -94,9 +127,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         ));
         return fail(&session);
     }
-    let plan_text = if args.with_plan {
-        let settings = crate::session::PlanSettings { epsilon: args.epsilon, ..Default::default() };
-        let Ok(planned) = session.plan(problem, &settings, &mut crate::planner::Silent) else { return fail(&session) };
+    let plan_text = if let Some(planned) = planned {
         let names: serde_json::Value = serde_json::from_str(&exported.names).expect("the export writes valid JSON");
         let (kb, interner) = (session.kb(), session.interner());
         let timed = &planned.timed;
