@@ -277,12 +277,7 @@ fn lower_ground(term: &ast::Term) -> Option<Term> {
         ast::TermKind::Str(s) => Term::Str(*s),
         // A flat chain is the right-nested binary term it stands for.
         ast::TermKind::Compound(c) if c.notation == ast::Notation::Chain => {
-            let mut operands = c.args.iter().map(lower_ground).collect::<Option<Vec<Term>>>()?;
-            let mut acc = operands.pop()?;
-            while let Some(operand) = operands.pop() {
-                acc = Term::Compound(c.functor, Box::new([operand, acc]));
-            }
-            acc
+            Term::xfy(c.functor, c.args.iter().map(lower_ground).collect::<Option<_>>()?)
         }
         ast::TermKind::Compound(c) => {
             Term::Compound(c.functor, c.args.iter().map(lower_ground).collect::<Option<_>>()?)

@@ -75,14 +75,7 @@ fn lower(term: &kbc::syntax::ast::Term, names: &mut Vec<kbc::intern::Symbol>, in
         View::Float(f) => Term::Float(f),
         View::Str(s) => Term::Str(s),
         View::Compound(f, args) => Term::Compound(f, args.iter().map(|a| lower(a, names, interner)).collect()),
-        View::Chain(f, operands) => {
-            let mut operands: Vec<Term> = operands.iter().map(|a| lower(a, names, interner)).collect();
-            let mut acc = operands.pop().expect("a chain has operands");
-            while let Some(operand) = operands.pop() {
-                acc = Term::Compound(f, Box::new([operand, acc]));
-            }
-            acc
-        }
+        View::Chain(f, operands) => Term::xfy(f, operands.iter().map(|a| lower(a, names, interner)).collect()),
         View::List(items, tail) => {
             let mut list = match tail {
                 Some(t) => lower(t, names, interner),

@@ -778,6 +778,29 @@ fn end_takes_start(kb: &Kb) -> bool {
     })
 }
 
+/// Counts the reference's verdict and, when it has a plan, has kbc's validator check that plan
+/// (`validate` gets the plan file's text and the step names).
+fn tally(
+    reference: &Reference,
+    counts: &mut Counts,
+    validate: impl FnOnce(String, &[String]) -> Result<(), String>,
+) -> Result<(), String> {
+    match reference {
+        Reference::Plan(plan) => {
+            counts.solvable += 1;
+            validate(plan.iter().map(|n| format!("{n}\n")).collect(), plan)
+        }
+        Reference::Unsolvable => {
+            counts.unsolvable += 1;
+            Ok(())
+        }
+        Reference::Unknown => {
+            counts.unknown += 1;
+            Ok(())
+        }
+    }
+}
+
 /// Checks one seed; `Err` describes a disagreement.
 fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
     let kb = generate(seed);
@@ -814,15 +837,7 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
         }
         Ok(())
     };
-    match &reference {
-        Reference::Plan(plan) => {
-            counts.solvable += 1;
-            let text: String = plan.iter().map(|n| format!("{n}\n")).collect();
-            validate_text(text, plan).map_err(&context)?;
-        }
-        Reference::Unsolvable => counts.unsolvable += 1,
-        Reference::Unknown => counts.unknown += 1,
-    }
+    tally(&reference, counts, validate_text).map_err(&context)?;
     for search in [SearchKind::Heuristic, SearchKind::Paper] {
         let mut task = kbc::passes::task::build(&frontend.kb, problem);
         let budget = Budget {
@@ -913,15 +928,7 @@ fn check_open_init(seed: u64, counts: &mut Counts) -> Result<(), String> {
         }
         Ok(())
     };
-    match &reference {
-        Reference::Plan(plan) => {
-            counts.solvable += 1;
-            let text: String = plan.iter().map(|n| format!("{n}\n")).collect();
-            validate_text(&mut session, text, plan).map_err(&context)?;
-        }
-        Reference::Unsolvable => counts.unsolvable += 1,
-        Reference::Unknown => counts.unknown += 1,
-    }
+    tally(&reference, counts, |text, names| validate_text(&mut session, text, names)).map_err(&context)?;
     for search in [SearchKind::Heuristic, SearchKind::Paper] {
         let max_depth = match &reference {
             Reference::Plan(plan) => Some((plan.len() as u32).max(12)),

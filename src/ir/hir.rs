@@ -39,6 +39,17 @@ pub enum Term {
 }
 
 impl Term {
+    /// The right-nested binary term of an xfy chain: `op(a, op(b, c))` for operands `a, b, c`
+    /// (a flat chain of the syntax tree, see [`crate::syntax::ast::Notation::Chain`]). A loop,
+    /// so a chain of any length costs no stack.
+    pub fn xfy(op: Symbol, mut operands: Vec<Term>) -> Term {
+        let mut acc = operands.pop().expect("a chain has operands");
+        while let Some(operand) = operands.pop() {
+            acc = Term::Compound(op, Box::new([operand, acc]));
+        }
+        acc
+    }
+
     /// The name and arity of a callable term.
     pub fn callable(&self) -> Option<(Symbol, usize)> {
         match self {

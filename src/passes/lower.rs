@@ -167,12 +167,7 @@ impl Lowerer<'_> {
             TermKind::Str(s) => hir::Term::Str(*s),
             // A flat chain is the right-nested binary term it stands for.
             TermKind::Compound(c) if c.notation == ast::Notation::Chain => {
-                let mut operands: Vec<hir::Term> = c.args.iter().map(|a| self.term(a, scope)).collect();
-                let mut acc = operands.pop().expect("a chain has operands");
-                while let Some(operand) = operands.pop() {
-                    acc = hir::Term::Compound(c.functor, Box::new([operand, acc]));
-                }
-                acc
+                hir::Term::xfy(c.functor, c.args.iter().map(|a| self.term(a, scope)).collect())
             }
             TermKind::Compound(c) => {
                 hir::Term::Compound(c.functor, c.args.iter().map(|a| self.term(a, scope)).collect())
@@ -330,7 +325,7 @@ impl Lowerer<'_> {
 
     fn declarations(&mut self, kind: DeclarationKind, spec: &ast::Term) {
         match &spec.kind {
-            TermKind::Compound(c) if c.functor == sym::COMMA && spec.callable() == Some((sym::COMMA, 2)) => {
+            _ if spec.callable() == Some((sym::COMMA, 2)) => {
                 for item in spec.xfy_operands(sym::COMMA) {
                     self.declarations(kind, item);
                 }
@@ -792,12 +787,8 @@ impl Lowerer<'_> {
         let arm = self.kb.arm_level_preds();
         for p in 0..self.kb.problems.len() {
             let problem = &self.kb.problems[p];
-            let high: Vec<Literal> = problem
-                .open_init
-                .iter()
-                .filter(|l| l.term.callable().is_none_or(|key| !arm.contains(&key)))
-                .cloned()
-                .collect();
+            let high: Vec<Literal> =
+                crate::passes::open_init::high_level_open_facts(problem, &arm).into_iter().cloned().collect();
             let vars = problem.vars.clone();
             for literal in high {
                 self.open_init_warning(&literal, &vars);

@@ -19,31 +19,31 @@ use crate::ir::unify::substitute;
 /// The most groundings of one problem's initial variables that are tried.
 pub const MAX_GROUNDINGS: usize = 256;
 
-/// A problem's initial variables and the ground problems their values make.
+/// A problem's initial variables and the values each grounding gives them.
 #[derive(Clone, Debug)]
 pub struct Groundings {
     /// The variables, in order of first occurrence in the initial state.
     pub vars: Vec<VarId>,
-    /// The ground problems, in the order they are tried; each gives every variable a value.
-    pub problems: Vec<Problem>,
-    /// For each problem, the value of each variable.
+    /// For each grounding, in the order they are tried, the value of each variable.
     pub values: Vec<Vec<Term>>,
-    /// How many groundings there are in all (more than `problems.len()` when capped).
+    /// How many groundings there are in all (more than `values.len()` when capped).
     pub total: u128,
 }
 
-/// The initial facts of `problem` with variables that the high level reads (those the arm
-/// level does not: the arm level binds its own by unification).
-pub fn high_level_open_facts<'a>(kb: &Kb, problem: &'a Problem) -> Vec<&'a Literal> {
-    let arm = kb.arm_level_preds();
+/// The initial facts of `problem` with variables that the high level reads: those not on an
+/// arm-level predicate (`arm`, [`Kb::arm_level_preds`]), which the arm level binds by
+/// unification.
+pub fn high_level_open_facts<'a>(problem: &'a Problem, arm: &[(Symbol, usize)]) -> Vec<&'a Literal> {
     problem.open_init.iter().filter(|l| l.term.callable().is_none_or(|key| !arm.contains(&key))).collect()
 }
 
-/// The groundings of `problem`'s high-level initial variables; `None` when it has none.
-/// New names (the variables' own values) are interned in `interner`.
-pub fn groundings(kb: &Kb, interner: &mut Interner, problem: usize) -> Option<Groundings> {
+/// The groundings of `problem`'s high-level initial variables, and the ground problem each one
+/// makes, in the order they are tried; `None` when it has none. New names (the variables' own
+/// values) are interned in `interner`.
+pub fn groundings(kb: &Kb, interner: &mut Interner, problem: usize) -> Option<(Groundings, Vec<Problem>)> {
     let base = &kb.problems[problem];
-    let open = high_level_open_facts(kb, base);
+    let arm = kb.arm_level_preds();
+    let open = high_level_open_facts(base, &arm);
     let mut vars: Vec<VarId> = Vec::new();
     for fact in &open {
         fact.term.for_each_var(&mut |v| {
@@ -65,13 +65,13 @@ pub fn groundings(kb: &Kb, interner: &mut Interner, problem: usize) -> Option<Gr
     let mut digits = vec![0usize; vars.len()];
     loop {
         let chosen: Vec<Term> = digits.iter().zip(&candidates).map(|(&d, c)| c[d].clone()).collect();
-        problems.push(ground(kb, base, &vars, &chosen));
+        problems.push(ground(base, &arm, &vars, &chosen));
         values.push(chosen);
         if problems.len() == MAX_GROUNDINGS || !advance(&mut digits, &candidates) {
             break;
         }
     }
-    Some(Groundings { vars, problems, values, total })
+    Some((Groundings { vars, values, total }, problems))
 }
 
 /// The next combination, last digit fastest; false after the last one.
@@ -108,15 +108,14 @@ fn own_name(interner: &mut Interner, problem: &Problem, v: VarId, taken: &[Term]
 
 /// `base` with `vars` replaced by `values` in its initial facts, goal and arm-level facts; the
 /// initial facts stay in the order they are written.
-fn ground(kb: &Kb, base: &Problem, vars: &[VarId], values: &[Term]) -> Problem {
+fn ground(base: &Problem, arm: &[(Symbol, usize)], vars: &[VarId], values: &[Term]) -> Problem {
     let bindings: FxHashMap<VarId, Term> = vars.iter().copied().zip(values.iter().cloned()).collect();
     let apply = |l: &Literal| Literal { term: substitute(&l.term, &bindings), ..l.clone() };
-    let high: Vec<Literal> = high_level_open_facts(kb, base).into_iter().map(apply).collect();
+    let high: Vec<Literal> = high_level_open_facts(base, arm).into_iter().map(apply).collect();
     let mut init = base.init.clone();
     let (now_ground, still_open): (Vec<Literal>, Vec<Literal>) = high.into_iter().partition(|l| l.term.is_ground());
     init.extend(now_ground);
     init.sort_by_key(|l| (l.span.file, l.span.start));
-    let arm = kb.arm_level_preds();
     let mut open_init: Vec<Literal> =
         base.open_init.iter().filter(|l| l.term.callable().is_some_and(|key| arm.contains(&key))).map(apply).collect();
     open_init.extend(still_open);

@@ -501,8 +501,8 @@ impl Session {
             return grounded.clone();
         }
         let found = crate::passes::open_init::groundings(&self.frontend.kb, &mut self.frontend.interner, problem);
-        let grounded = found.map(|mut groundings| {
-            let problems = std::mem::take(&mut groundings.problems).into_iter().map(|p| self.add_problem(p)).collect();
+        let grounded = found.map(|(groundings, ground)| {
+            let problems = ground.into_iter().map(|p| self.add_problem(p)).collect();
             Rc::new(Grounded { problems, groundings })
         });
         self.groundings.push((problem, grounded.clone()));

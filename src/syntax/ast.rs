@@ -44,16 +44,6 @@ pub enum TermKind {
     Error,
 }
 
-/// The right operand of a binary operator term: a term, or the tail of a flat chain (two
-/// operands or more, standing for their right-nested chain).
-#[derive(Clone, Copy, Debug)]
-pub enum Operand<'a> {
-    /// A term.
-    Term(&'a Term),
-    /// The operands of the chain `functor` after the first.
-    Chain(Symbol, &'a [Term]),
-}
-
 /// How a compound was written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Notation {
@@ -65,7 +55,7 @@ pub enum Notation {
     Prefix,
     /// `a, b, c, ...`: an xfy operator chain of three operands or more, kept flat. It stands
     /// for the right-nested binary term `','(a, ','(b, c))`: the compound's arity (as
-    /// [`Term::callable`] reports it) is 2, and [`Term::binary`] gives the two arguments.
+    /// [`Term::callable`] reports it) is 2, and [`Term::xfy_operands`] gives the operands.
     /// Only `,` chains are kept flat.
     Chain,
 }
@@ -158,26 +148,11 @@ impl Term {
     }
 
     /// The compound if this is one with the given functor and arity, written as one (a flat
-    /// chain is not: see [`Term::binary`]).
+    /// chain is not: see [`Term::xfy_operands`]).
     pub fn as_compound(&self, functor: Symbol, arity: usize) -> Option<&Compound> {
         match &self.kind {
             TermKind::Compound(c) if c.functor == functor && c.args.len() == arity && c.notation != Notation::Chain => {
                 Some(c)
-            }
-            _ => None,
-        }
-    }
-
-    /// If this is `functor(A, B)` (written so, or as a chain `a, b, c`): its operands, the
-    /// first and the rest. The rest of a chain of more than two is the chain's tail, which is
-    /// not a term of its own here; [`Operand`] names it.
-    pub fn binary(&self, functor: Symbol) -> Option<(&Term, Operand<'_>)> {
-        match &self.kind {
-            TermKind::Compound(c) if c.functor == functor && c.args.len() == 2 => {
-                Some((&c.args[0], Operand::Term(&c.args[1])))
-            }
-            TermKind::Compound(c) if c.functor == functor && c.notation == Notation::Chain => {
-                Some((&c.args[0], Operand::Chain(functor, &c.args[1..])))
             }
             _ => None,
         }
@@ -188,25 +163,20 @@ impl Term {
     /// A term that is no such chain is its own only operand.
     pub fn xfy_operands(&self, functor: Symbol) -> Vec<&Term> {
         let mut operands = Vec::new();
-        let mut rest = Operand::Term(self);
+        let mut rest = self;
         loop {
-            match rest {
-                Operand::Term(t) => match t.binary(functor) {
-                    Some((first, tail)) => {
-                        operands.push(first);
-                        rest = tail;
-                    }
-                    None => {
-                        operands.push(t);
-                        return operands;
-                    }
-                },
-                Operand::Chain(_, [last]) => rest = Operand::Term(last),
-                Operand::Chain(f, [first, tail @ ..]) => {
-                    operands.push(first);
-                    rest = Operand::Chain(f, tail);
+            match &rest.kind {
+                TermKind::Compound(c)
+                    if c.functor == functor && (c.args.len() == 2 || c.notation == Notation::Chain) =>
+                {
+                    let (last, before) = c.args.split_last().expect("a chain has operands");
+                    operands.extend(before);
+                    rest = last;
                 }
-                Operand::Chain(_, []) => return operands,
+                _ => {
+                    operands.push(rest);
+                    return operands;
+                }
             }
         }
     }

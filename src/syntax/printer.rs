@@ -98,54 +98,12 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
         }
         View::Error => out.push_str("<error>"),
         View::List(items, tail) => write_list(out, interner, items.iter(), tail),
-        View::Chain(functor, operands) => {
-            // As the right-nested binary term would print: every operand but the last at the
-            // left argument's limit, the last at the right one's.
-            let op = ops::infix(functor).expect("only operators form chains");
-            let (left, right) = op.argument_limits();
-            let parens = op.priority > max_priority;
-            if parens {
-                out.push('(');
-            }
-            for (i, operand) in operands.iter().enumerate() {
-                if i > 0 {
-                    if functor == sym::COMMA {
-                        out.push_str(", ");
-                    } else {
-                        out.push(' ');
-                        ops::write_atom(out, interner, functor);
-                        out.push(' ');
-                    }
-                }
-                write_term(out, interner, operand, if i + 1 == operands.len() { right } else { left });
-            }
-            if parens {
-                out.push(')');
-            }
-        }
+        View::Chain(functor, operands) => write_infix(out, interner, functor, operands, max_priority),
         View::Compound(functor, args) => {
             if functor == sym::CONS && args.len() == 2 {
                 write_cons_list(out, interner, &args[0], &args[1]);
-            } else if args.len() == 2
-                && let Some(op) = ops::infix(functor)
-            {
-                let (left, right) = op.argument_limits();
-                let parens = op.priority > max_priority;
-                if parens {
-                    out.push('(');
-                }
-                write_term(out, interner, &args[0], left);
-                if functor == sym::COMMA {
-                    out.push_str(", ");
-                } else {
-                    out.push(' ');
-                    ops::write_atom(out, interner, functor);
-                    out.push(' ');
-                }
-                write_term(out, interner, &args[1], right);
-                if parens {
-                    out.push(')');
-                }
+            } else if args.len() == 2 && ops::infix(functor).is_some() {
+                write_infix(out, interner, functor, args, max_priority);
             } else if args.len() == 1
                 && let Some(op) = ops::prefix(functor)
             {
@@ -193,6 +151,33 @@ fn write_list<'a, T: TermView + 'a>(
         write_term(out, interner, tail, 999);
     }
     out.push(']');
+}
+
+/// Writes `a op b op ... op z` for the infix operator `functor`: a binary term (two operands)
+/// or a flat chain standing for the right-nested one. Every operand but the last is written at
+/// the left argument's limit, the last at the right one's.
+fn write_infix<T: TermView>(out: &mut String, interner: &Interner, functor: Symbol, operands: &[T], max_priority: u16) {
+    let op = ops::infix(functor).expect("only infix operators are written infix");
+    let (left, right) = op.argument_limits();
+    let parens = op.priority > max_priority;
+    if parens {
+        out.push('(');
+    }
+    for (i, operand) in operands.iter().enumerate() {
+        if i > 0 {
+            if functor == sym::COMMA {
+                out.push_str(", ");
+            } else {
+                out.push(' ');
+                ops::write_atom(out, interner, functor);
+                out.push(' ');
+            }
+        }
+        write_term(out, interner, operand, if i + 1 == operands.len() { right } else { left });
+    }
+    if parens {
+        out.push(')');
+    }
 }
 
 fn write_cons_list<T: TermView>(out: &mut String, interner: &Interner, head: &T, tail: &T) {
