@@ -102,10 +102,7 @@ pub(super) fn run(command: ExportCommand, color: bool) -> ExitCode {
         Some(planned) => planned.problem,
         None => {
             if let Some(grounded) = session.groundings(problem) {
-                let values: Vec<String> = grounded.groundings.values[0]
-                    .iter()
-                    .map(|v| crate::ir::hir::term_to_string(session.interner(), v, &Default::default()))
-                    .collect();
+                let values = grounded.groundings.shown(session.interner(), 0);
                 session.push(
                     Diagnostic::warning(
                         crate::diag::codes::EXPORT_LEAVES_OUT,

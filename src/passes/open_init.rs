@@ -30,6 +30,14 @@ pub struct Groundings {
     pub total: u128,
 }
 
+impl Groundings {
+    /// The values grounding `index` gives the variables, as Prolog text (`'_A'`, `b1`).
+    pub fn shown(&self, interner: &Interner, index: usize) -> Vec<String> {
+        let no_vars = crate::ir::hir::VarTable::default();
+        self.values[index].iter().map(|value| crate::ir::hir::term_to_string(interner, value, &no_vars)).collect()
+    }
+}
+
 /// The initial facts of `problem` with variables that the high level reads: those not on an
 /// arm-level predicate (`arm`, [`Kb::arm_level_preds`]), which the arm level binds by
 /// unification.

@@ -1164,11 +1164,7 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
     let vars = &kb.problems[problem].vars;
     let names: Vec<String> =
         grounded.groundings.vars.iter().map(|&v| format!("`{}`", interner.resolve(vars.get(v).name))).collect();
-    let no_vars = crate::ir::hir::VarTable::default();
-    let first: Vec<String> = grounded.groundings.values[0]
-        .iter()
-        .map(|value| format!("`{}`", crate::ir::hir::term_to_string(interner, value, &no_vars)))
-        .collect();
+    let first: Vec<String> = grounded.groundings.shown(interner, 0).iter().map(|v| format!("`{v}`")).collect();
     let all = grounded.groundings.total;
     let of_all = if all == tried as u128 { format!("all {all}") } else { format!("{tried} of the {all}") };
     let (them, values) = if names.len() == 1 { ("variable", "values") } else { ("variables", "groundings") };
