@@ -327,3 +327,54 @@ fn a_flat_comma_chain_means_the_nested_term() {
     let ast = parse_source(kbc::source::FileId(0), "x :- a, b, (c ; d), e.\n", &mut interner, &mut diags);
     assert_eq!(printer::print_source(&interner, &ast).trim(), "x :- a, b, (c ; d), e.");
 }
+
+/// `;` and `->` chains are flat too, in the syntax tree and in the HIR (a disjunction of
+/// 100,000 branches is one node); they must mean the right-nested terms Prolog reads, with
+/// if-then-else branches where `->` stands left of `;`.
+#[test]
+fn flat_disjunctions_and_if_then_chains_mean_the_nested_terms() {
+    let text = "p((a ; b ; c ; d)).\n\
+                p((a ; (b ; (c ; d)))).\n\
+                q((a -> b -> c)).\n\
+                q((a -> (b -> c))).\n\
+                s :- ( a ; b -> c ; d ; e -> f -> g ).\n\
+                v :- ( a ; ((b -> c) ; (d ; (e -> (f -> g))))).\n\
+                w :- ( (a ; b) ; (c -> d ; e) ; f ).\n\
+                a. b. c. d. e. f. g.\n";
+    let session = kbc::session::Session::from_text("chains.pl", text);
+    assert!(!session.has_errors(), "{:?}", common::messages(session.diagnostics()));
+    let kb = session.kb();
+    let named = |name: &str| -> Vec<&kbc::ir::hir::Clause> {
+        kb.clauses.iter().filter(|c| session.interner().resolve(c.head.name()) == name).collect()
+    };
+    for data in ["p", "q"] {
+        let facts = named(data);
+        assert_eq!(facts.len(), 2);
+        assert_eq!(facts[0].head.term, facts[1].head.term, "a flat `{data}` chain as data is the nested term");
+    }
+    // The shape of a body: its disjunctions (branches as `conditions->goal`) and calls.
+    fn shape(goal: &kbc::ir::hir::Goal) -> String {
+        use kbc::ir::hir::Goal;
+        match goal {
+            Goal::Or(branches) => {
+                let branch = |b: &kbc::ir::hir::Branch| {
+                    b.conditions.iter().map(|c| format!("{}->", shape(c))).collect::<String>() + &shape(&b.goal)
+                };
+                format!("or({})", branches.iter().map(branch).collect::<Vec<_>>().join(","))
+            }
+            Goal::Call(_) => "call".into(),
+            other => format!("{other:?}"),
+        }
+    }
+    let body = |name: &str| shape(named(name)[0].body.as_deref().expect("a rule"));
+    assert_eq!(body("s"), "or(call,call->call,call,call->call->call)");
+    assert_eq!(body("s"), body("v"), "the same disjunction, nested to the right");
+    // A parenthesised disjunction left of `;` is a branch of its own: `f` is still tried
+    // after `c -> d ; e` has committed to `d`.
+    assert_eq!(body("w"), "or(or(call,call),or(call->call,call),call)");
+    let mut interner = Interner::new();
+    let mut diags = kbc::diag::Diagnostics::new();
+    let source = "x :- (a ; b -> c ; d), (e -> f -> g), ((h ; i) ; j).\n";
+    let ast = parse_source(kbc::source::FileId(0), source, &mut interner, &mut diags);
+    assert_eq!(printer::print_source(&interner, &ast).trim(), source.trim());
+}

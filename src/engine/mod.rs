@@ -24,7 +24,7 @@ mod arith;
 use rustc_hash::FxHashMap;
 
 use crate::intern::{Interner, Symbol, sym};
-use crate::ir::hir::{self, Goal, Kb, Literal, Term, VarId};
+use crate::ir::hir::{self, Branch, Goal, Kb, Literal, Term, VarId};
 
 /// One heap cell.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,6 +163,16 @@ impl TemplateBuilder {
         Cell::Struct(at)
     }
 
+    /// A branch `C1 -> (C2 -> ... G)` as the term it was read from.
+    fn branch(&mut self, branch: &Branch) -> Cell {
+        let conditions: Vec<Cell> = branch.conditions.iter().map(|c| self.goal(c)).collect();
+        let mut cell = self.goal(&branch.goal);
+        for &condition in conditions.iter().rev() {
+            cell = self.compound(sym::ARROW, &[condition, cell]);
+        }
+        cell
+    }
+
     fn goal(&mut self, goal: &Goal) -> Cell {
         match goal {
             Goal::Call(literal) => self.term(&literal.term),
@@ -174,20 +184,13 @@ impl TemplateBuilder {
                 }
                 conjunction
             }
-            Goal::Or(a, b) => {
-                let (a, b) = (self.goal(a), self.goal(b));
-                self.compound(sym::SEMI, &[a, b])
-            }
-            Goal::IfThenElse(c, t, e) => {
-                let (c, t) = (self.goal(c), self.goal(t));
-                let if_then = self.compound(sym::ARROW, &[c, t]);
-                match e {
-                    Some(e) => {
-                        let e = self.goal(e);
-                        self.compound(sym::SEMI, &[if_then, e])
-                    }
-                    None => if_then,
+            Goal::Or(branches) => {
+                let mut cells: Vec<Cell> = branches.iter().map(|b| self.branch(b)).collect();
+                let mut disjunction = cells.pop().expect("a disjunction has a branch");
+                while let Some(left) = cells.pop() {
+                    disjunction = self.compound(sym::SEMI, &[left, disjunction]);
                 }
+                disjunction
             }
             Goal::Not(g) => {
                 let g = self.goal(g);
@@ -435,6 +438,16 @@ impl<'p> Machine<'p> {
         conjunction
     }
 
+    /// Places a branch of a disjunction on the heap: `C1 -> (C2 -> ... G)`.
+    fn put_branch(&mut self, branch: &Branch, vars: &mut [Option<Cell>]) -> Cell {
+        let conditions: Vec<Cell> = branch.conditions.iter().map(|c| self.put_goal(c, vars)).collect();
+        let mut cell = self.put_goal(&branch.goal, vars);
+        for &condition in conditions.iter().rev() {
+            cell = self.new_compound(sym::ARROW, &[condition, cell]);
+        }
+        cell
+    }
+
     /// Places a goal on the heap, as [`Machine::put_term`] does for terms.
     pub fn put_goal(&mut self, goal: &Goal, vars: &mut [Option<Cell>]) -> Cell {
         match goal {
@@ -447,20 +460,13 @@ impl<'p> Machine<'p> {
                 }
                 conjunction
             }
-            Goal::Or(a, b) => {
-                let (a, b) = (self.put_goal(a, vars), self.put_goal(b, vars));
-                self.new_compound(sym::SEMI, &[a, b])
-            }
-            Goal::IfThenElse(c, t, e) => {
-                let (c, t) = (self.put_goal(c, vars), self.put_goal(t, vars));
-                let if_then = self.new_compound(sym::ARROW, &[c, t]);
-                match e {
-                    Some(e) => {
-                        let e = self.put_goal(e, vars);
-                        self.new_compound(sym::SEMI, &[if_then, e])
-                    }
-                    None => if_then,
+            Goal::Or(branches) => {
+                let mut cells: Vec<Cell> = branches.iter().map(|b| self.put_branch(b, vars)).collect();
+                let mut disjunction = cells.pop().expect("a disjunction has a branch");
+                while let Some(left) = cells.pop() {
+                    disjunction = self.new_compound(sym::SEMI, &[left, disjunction]);
                 }
+                disjunction
             }
             Goal::Not(g) => {
                 let g = self.put_goal(g, vars);

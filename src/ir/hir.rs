@@ -174,12 +174,27 @@ pub enum Goal {
     Call(Literal),
     /// `A, B, ...`.
     And(Vec<Goal>),
-    /// `A ; B`.
-    Or(Box<Goal>, Box<Goal>),
-    /// `C -> T` or `C -> T ; E`.
-    IfThenElse(Box<Goal>, Box<Goal>, Option<Box<Goal>>),
+    /// `A ; B ; ...`, whose branches may be if-thens: `C -> T ; E` is two branches, and
+    /// `C -> T` alone is one. Flat, however long the chain (a nest of binary disjunctions
+    /// would make walking a long one recurse as deep).
+    Or(Vec<Branch>),
     /// `\+ G`.
     Not(Box<Goal>),
+}
+
+/// A branch of a disjunction ([`Goal::Or`]): a goal, or an if-then `C1 -> C2 -> ... -> G`.
+///
+/// The branches are tried in order. A branch with conditions calls its first; when that
+/// succeeds (its first solution only), the disjunction commits to the branch, so the later
+/// branches are not tried (Prolog's if-then-else); when it fails, the next branch is tried.
+/// Each later condition is then called once too, and failing it fails the disjunction:
+/// `C1 -> C2 -> G` is `C1 -> (C2 -> G)`. A branch without conditions is a plain alternative.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Branch {
+    /// The conditions, in order; none for a plain alternative.
+    pub conditions: Vec<Goal>,
+    /// The goal run after them.
+    pub goal: Goal,
 }
 
 impl Goal {
@@ -188,15 +203,10 @@ impl Goal {
         match self {
             Goal::Call(literal) => f(literal),
             Goal::And(goals) => goals.iter().for_each(|g| g.for_each_call(f)),
-            Goal::Or(a, b) => {
-                a.for_each_call(f);
-                b.for_each_call(f);
-            }
-            Goal::IfThenElse(c, t, e) => {
-                c.for_each_call(f);
-                t.for_each_call(f);
-                if let Some(e) = e {
-                    e.for_each_call(f);
+            Goal::Or(branches) => {
+                for branch in branches {
+                    branch.conditions.iter().for_each(|c| c.for_each_call(f));
+                    branch.goal.for_each_call(f);
                 }
             }
             Goal::Not(g) => g.for_each_call(f),
@@ -600,21 +610,17 @@ fn write_goal(out: &mut String, interner: &Interner, goal: &Goal, vars: &VarTabl
             }
             out.push(')');
         }
-        Goal::Or(a, b) => {
+        Goal::Or(branches) => {
             out.push('(');
-            write_goal(out, interner, a, vars);
-            out.push_str(" ; ");
-            write_goal(out, interner, b, vars);
-            out.push(')');
-        }
-        Goal::IfThenElse(c, t, e) => {
-            out.push('(');
-            write_goal(out, interner, c, vars);
-            out.push_str(" -> ");
-            write_goal(out, interner, t, vars);
-            if let Some(e) = e {
-                out.push_str(" ; ");
-                write_goal(out, interner, e, vars);
+            for (i, branch) in branches.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(" ; ");
+                }
+                for condition in &branch.conditions {
+                    write_goal(out, interner, condition, vars);
+                    out.push_str(" -> ");
+                }
+                write_goal(out, interner, &branch.goal, vars);
             }
             out.push(')');
         }

@@ -18,7 +18,7 @@ use super::load::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Edit, codes, plural};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{
-    self, Action, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level, Literal,
+    self, Action, Branch, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level, Literal,
     Mapping, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, VarId, VarInfo, VarTable,
 };
 use crate::source::{FileId, SourceDb, Span};
@@ -236,6 +236,15 @@ impl Lowerer<'_> {
         }
     }
 
+    /// A branch of a disjunction: `G`, or the if-then `C1 -> C2 -> ... -> G`.
+    fn branch(&mut self, t: &ast::Term, scope: &mut Scope) -> Option<Branch> {
+        let mut parts: Vec<Option<Goal>> =
+            t.xfy_operands(sym::ARROW).into_iter().map(|g| self.goal(g, scope)).collect();
+        let goal = parts.pop().flatten();
+        let conditions = parts.into_iter().collect::<Option<Vec<_>>>();
+        Some(Branch { conditions: conditions?, goal: goal? })
+    }
+
     fn goal(&mut self, t: &ast::Term, scope: &mut Scope) -> Option<Goal> {
         if let TermKind::Compound(c) = &t.kind {
             match (c.functor, t.callable().map_or(0, |(_, arity)| arity)) {
@@ -245,25 +254,13 @@ impl Lowerer<'_> {
                         t.xfy_operands(sym::COMMA).into_iter().map(|g| self.goal(g, scope)).collect();
                     return goals.into_iter().collect::<Option<Vec<_>>>().map(Goal::And);
                 }
-                (sym::SEMI, 2) => {
-                    if let Some(if_then) = c.args[0].as_compound(sym::ARROW, 2) {
-                        let condition = self.goal(&if_then.args[0], scope);
-                        let then = self.goal(&if_then.args[1], scope);
-                        let otherwise = self.goal(&c.args[1], scope);
-                        return Some(Goal::IfThenElse(
-                            Box::new(condition?),
-                            Box::new(then?),
-                            Some(Box::new(otherwise?)),
-                        ));
-                    }
-                    let a = self.goal(&c.args[0], scope);
-                    let b = self.goal(&c.args[1], scope);
-                    return Some(Goal::Or(Box::new(a?), Box::new(b?)));
-                }
-                (sym::ARROW, 2) => {
-                    let condition = self.goal(&c.args[0], scope);
-                    let then = self.goal(&c.args[1], scope);
-                    return Some(Goal::IfThenElse(Box::new(condition?), Box::new(then?), None));
+                (sym::SEMI | sym::ARROW, 2) => {
+                    // However the disjunction is written (flat, nested to the right): its
+                    // branches, each `G` or `C1 -> ... -> G`. Every branch is lowered, so
+                    // every error in them is reported.
+                    let branches: Vec<Option<Branch>> =
+                        t.xfy_operands(sym::SEMI).into_iter().map(|b| self.branch(b, scope)).collect();
+                    return branches.into_iter().collect::<Option<Vec<_>>>().map(Goal::Or);
                 }
                 (sym::NOT_PROVABLE | sym::NOT, 1) => {
                     return self.goal(&c.args[0], scope).map(|g| Goal::Not(Box::new(g)));

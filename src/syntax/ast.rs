@@ -56,7 +56,7 @@ pub enum Notation {
     /// `a, b, c, ...`: an xfy operator chain of three operands or more, kept flat. It stands
     /// for the right-nested binary term `','(a, ','(b, c))`: the compound's arity (as
     /// [`Term::callable`] reports it) is 2, and [`Term::xfy_operands`] gives the operands.
-    /// Only `,` chains are kept flat.
+    /// The chains of `,`, `->` and `;` are kept flat.
     Chain,
 }
 

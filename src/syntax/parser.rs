@@ -32,65 +32,41 @@ lalrpop_util::lalrpop_mod!(
     "/kb.rs"
 );
 
-/// An xfy operator chain `a op1 b op2 c ...` as the grammar reads it: the operands, and the
-/// operators (name and span) between them. A chain that will stay flat ([`flatten_xfy`])
-/// keeps only its first operator: a body of a million goals need not hold a million spans.
+/// An xfy operator chain `a op b op c ...` as the grammar reads it: the operands, and the
+/// first operator (name and span). A chain of one operator is kept flat ([`flatten_xfy`]), so
+/// a body of a million goals need not hold a million spans.
 pub struct XfyChain {
     operands: Vec<Term>,
-    /// The operators in order; only the first for a chain made by [`XfyChain::flat`].
-    ops: Vec<(Symbol, Span)>,
-    /// Whether every operator is kept.
-    all_ops: bool,
+    op: (Symbol, Span),
 }
 
 impl XfyChain {
-    /// The chain `a op b`, to be folded into binary terms ([`fold_xfy`]).
+    /// The chain `a op b`.
     pub fn new(a: Term, op: (Symbol, Span), b: Term) -> XfyChain {
-        XfyChain { operands: vec![a, b], ops: vec![op], all_ops: true }
+        XfyChain { operands: vec![a, b], op }
     }
 
-    /// The chain `a op b`, to be kept flat ([`flatten_xfy`]) when it grows to three operands.
-    pub fn flat(a: Term, op: (Symbol, Span), b: Term) -> XfyChain {
-        XfyChain { operands: vec![a, b], ops: vec![op], all_ops: false }
-    }
-
-    /// The chain with `op b` after it.
+    /// The chain with `op b` after it (the same operator: a level has one xfy operator).
     pub fn push(mut self, op: (Symbol, Span), b: Term) -> XfyChain {
+        debug_assert_eq!(op.0, self.op.0, "a chain has one operator");
         self.operands.push(b);
-        if self.all_ops {
-            self.ops.push(op);
-        }
         self
     }
 }
 
-/// An [`XfyChain`] folded to the right: `a op1 (b op2 c)`. A loop, so a chain of any length
-/// costs no stack.
-pub fn fold_xfy(chain: XfyChain) -> Term {
-    let XfyChain { mut operands, mut ops, all_ops } = chain;
-    debug_assert!(all_ops || operands.len() == 2, "a flat chain is folded only with two operands");
-    let mut acc = operands.pop().expect("a chain has two operands or more");
-    while let (Some(operand), Some(op)) = (operands.pop(), ops.pop()) {
-        acc = Term::infix(op.0, op.1, operand, acc);
-        // Give back the chain's memory as the tree takes over its operands.
-        if operands.capacity() > 1 << 12 && operands.len() < operands.capacity() / 4 {
-            operands.shrink_to(operands.len() * 2);
-        }
-    }
-    acc
-}
-
-/// An [`XfyChain`] of one operator, kept flat when it has three operands or more: one compound
+/// An [`XfyChain`] as a term: `a op b` for two operands, and for three or more one compound
 /// with [`Notation::Chain`] (see there) instead of a nest of binary ones. A body of a million
-/// goals is then one node with a million arguments, not a million nodes a million deep.
+/// goals is then one node with a million arguments, not a million nodes a million deep; the
+/// same for `;` and `->` chains.
 ///
 /// [`Notation::Chain`]: super::ast::Notation::Chain
 pub fn flatten_xfy(chain: XfyChain) -> Term {
-    if chain.operands.len() == 2 {
-        return fold_xfy(chain);
+    let XfyChain { mut operands, op: (functor, functor_span) } = chain;
+    if operands.len() == 2 {
+        let b = operands.pop().expect("two operands");
+        let a = operands.pop().expect("two operands");
+        return Term::infix(functor, functor_span, a, b);
     }
-    let XfyChain { operands, ops, .. } = chain;
-    let (functor, functor_span) = ops[0];
     let span = operands[0].span.to(operands[operands.len() - 1].span);
     Term::compound(functor, functor_span, operands, super::ast::Notation::Chain, span)
 }

@@ -53,3 +53,14 @@ nested(f(X, g(Y, [X|Z])), X, Y, Z).
 
 fact(0, 1) :- !.
 fact(N, F) :- N1 is N - 1, fact(N1, F1), F is N * F1.
+
+% Disjunctions of every shape: plain and if-then branches mixed, if-then chains, nests.
+pick(X) :- ( X = 1 ; X = 2 -> true ; X = 3 ; member(X, [4, 5]) -> true ; X = 6 ).
+then_chain(X, Y) :- ( member(X, [1, 2, 3]) -> member(Y, [a, b]) -> true ; X = none, Y = none ).
+then_chain_fails(X) :- ( member(X, [1, 2]) -> fail -> true ; X = other ).
+nest(X) :- ( ( X = 1 ; X = 2 ) ; ( X = 3 -> true ; X = 4 ) ; X = 5 ).
+left_if(X) :- ( ( X = 1 -> true ; X = 2 ) ; X = 3 ).
+last_if(X) :- ( X = 1 ; member(X, [2, 3]) -> true ).
+last_if_fails(X) :- ( X = 1 ; fail -> true ).
+cut_in_branch(X) :- ( member(X, [1, 2]) -> true ; X = 3 ; ! ; X = 4 ).
+cut_in_branch(5).

@@ -69,3 +69,15 @@ q(67, X-Y, (member(X, [1, 2]), member(Y, [a, b]))).
 q(68, L, app([1], [2], L)).
 q(69, yes, app(_, [c], [a, b, c])).
 q(70, X, (X = 1, (X == 1 -> true ; fail))).
+q(71, X, pick(X)).
+q(72, X-Y, then_chain(X, Y)).
+q(73, X, then_chain_fails(X)).
+q(74, X, nest(X)).
+q(75, X, left_if(X)).
+q(76, X, last_if(X)).
+q(77, X, last_if_fails(X)).
+q(78, X, (X = 7, pick(X))).
+q(79, X, (X = 5, pick(X))).
+q(80, X, (X = 9, cut_in_branch(X))).
+q(81, X, (X = 4, cut_in_branch(X))).
+q(82, X, (X = 3, cut_in_branch(X))).
