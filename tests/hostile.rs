@@ -33,6 +33,7 @@ fn classes() -> Vec<(&'static str, String)> {
         ("chain_plus", format!("p(X) :- X = a{}.\n", "+a".repeat(100_000))),
         ("chain_or", format!("p :- a{}.\na.\n", " ; a".repeat(100_000))),
         ("chain_arrow", format!("p :- a{}.\na.\n", " -> a".repeat(100_000))),
+        ("chain_if", format!("p :- a{}.\na.\n", " -> a ; a".repeat(100_000))),
         ("chain_minus", format!("p(X) :- X is 1{}.\n", " - 1".repeat(100_000))),
         ("body_1m", format!("p :- a{}.\na.\n", ", a".repeat(1_000_000))),
         ("flat_list_1m", format!("p([a{}]).\n", ",a".repeat(1_000_000))),
