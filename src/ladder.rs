@@ -296,7 +296,7 @@ impl Rung {
     /// The lower bound on the makespan of this rung's plans (see [`LowerBound`]), with the
     /// durations of the KB `session` holds (the rung's problem 0).
     pub fn lower_bound(&self, session: &mut Session) -> LowerBound {
-        use crate::ir::hir::Term;
+        use crate::ir::hir::{Args, Term};
         let (init, goal) = self.towers();
         let atom = |session: &mut Session, name: &str| Term::Atom(session.intern(name));
         let (arm, block) = (atom(session, "a1"), atom(session, "b1"));
@@ -315,7 +315,7 @@ impl Rung {
                     let cell = |v: usize| Term::Int(v as i64);
                     let args =
                         [arm.clone(), block.clone(), cell(start.0), cell(start.1), cell(target.0), cell(target.1)];
-                    works.push(session.min_duration(0, &Term::Compound(move_symbol, Box::new(args))));
+                    works.push(session.min_duration(0, &Term::Compound(move_symbol, Args::from(args))));
                 }
             }
             let arms = self.arms.max(1) as i64;
@@ -323,14 +323,14 @@ impl Rung {
             let block = works.iter().copied().max().unwrap_or(0);
             return LowerBound { makespan: work.max(block), work, block, chain: 0 };
         }
-        let grip = Term::Compound(session.intern("grip"), Box::new([arm.clone(), block.clone()]));
-        let release = Term::Compound(session.intern("release"), Box::new([arm.clone(), block.clone()]));
+        let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
+        let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
         let (grip, release) = (session.min_duration(0, &grip), session.min_duration(0, &release));
         let move_symbol = session.intern("move_block");
         let moving = |session: &mut Session, from: (usize, usize), to: (usize, usize)| -> i64 {
             let cell = |v: usize| Term::Int(v as i64);
             let args = [arm.clone(), block.clone(), cell(from.0), cell(from.1), cell(to.0), cell(to.1)];
-            grip + session.min_duration(0, &Term::Compound(move_symbol, Box::new(args))) + release
+            grip + session.min_duration(0, &Term::Compound(move_symbol, Args::from(args))) + release
         };
         // Where each block is, and what it stands on (None: the table).
         let place = |towers: &[Tower]| -> std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)> {

@@ -288,7 +288,7 @@ fn lower_ground(term: &ast::Term) -> Option<Term> {
                 None => Term::Atom(sym::NIL),
             };
             for item in l.items.iter().rev() {
-                list = Term::Compound(sym::CONS, Box::new([lower_ground(item)?, list]));
+                list = Term::Compound(sym::CONS, hir::Args::from([lower_ground(item)?, list]));
             }
             list
         }
@@ -896,8 +896,10 @@ fn duration_bounds(machine: &mut Machine<'_>, action: &Term) -> Result<(i64, i64
     use crate::ir::stn::{DEFAULT_DURATION, UNITS};
     machine.reset();
     let mut vars = [None, None];
-    let query =
-        Term::Compound(sym::DURATION, Box::new([action.clone(), Term::Var(hir::VarId(0)), Term::Var(hir::VarId(1))]));
+    let query = Term::Compound(
+        sym::DURATION,
+        hir::Args::from([action.clone(), Term::Var(hir::VarId(0)), Term::Var(hir::VarId(1))]),
+    );
     let goal = machine.put_term(&query, &mut vars);
     let (Some(min), Some(max)) = (vars[0], vars[1]) else { return Err("the query has no variables".into()) };
     let mut found = None;

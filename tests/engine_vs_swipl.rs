@@ -83,7 +83,7 @@ fn lower(term: &kbc::syntax::ast::Term, names: &mut Vec<kbc::intern::Symbol>, in
             };
             for item in items.iter().rev() {
                 let item = lower(item, names, interner);
-                list = Term::Compound(kbc::intern::sym::CONS, Box::new([item, list]));
+                list = Term::Compound(kbc::intern::sym::CONS, kbc::ir::hir::Args::from([item, list]));
             }
             list
         }

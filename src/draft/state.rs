@@ -208,7 +208,7 @@ impl Positions<'_> {
             return Some(known);
         }
         let mut machine = Machine::new(self.program, POS_QUERY_STEPS);
-        let query = Term::Compound(pos, Box::new([Term::Int(*x), Term::Int(*y)]));
+        let query = Term::Compound(pos, hir::Args::from([Term::Int(*x), Term::Int(*y)]));
         let goal = machine.put_term(&query, &mut []);
         let mut known = false;
         machine

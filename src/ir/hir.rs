@@ -13,9 +13,10 @@
 
 use std::fmt::Write;
 
+pub use super::args::Args;
 use crate::intern::{Interner, Symbol, sym};
 use crate::source::{FileId, Span};
-use crate::syntax::printer::{TermView, View, end_clause, write_term};
+use crate::syntax::printer::{PrintContext, TermView, View, end_clause, write_term};
 
 /// A clause-local variable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -35,7 +36,7 @@ pub enum Term {
     /// A string.
     Str(Symbol),
     /// A compound term with at least one argument, or zero for `f()`.
-    Compound(Symbol, Box<[Term]>),
+    Compound(Symbol, Args),
 }
 
 impl Term {
@@ -45,7 +46,7 @@ impl Term {
     pub fn xfy(op: Symbol, mut operands: Vec<Term>) -> Term {
         let mut acc = operands.pop().expect("a chain has operands");
         while let Some(operand) = operands.pop() {
-            acc = Term::Compound(op, Box::new([operand, acc]));
+            acc = Term::Compound(op, Args::from([operand, acc]));
         }
         acc
     }
@@ -555,44 +556,37 @@ pub fn term_to_string(interner: &Interner, term: &Term, vars: &VarTable) -> Stri
 
 /// Writes a term with variable names at the given maximum priority.
 pub fn write_named(out: &mut String, interner: &Interner, term: &Term, vars: &VarTable, max_priority: u16) {
-    // The generic printer needs `&[T]` children of the same type, so build a named tree once.
-    let tree = NamedTree::build(term, vars, interner);
-    write_term(out, interner, &tree, max_priority);
+    write_term(out, &Names { interner, vars }, term, max_priority);
 }
 
-/// A printable copy of a term with variable names resolved.
-enum NamedTree {
-    Leaf(Term, String),
-    Compound(Symbol, Vec<NamedTree>),
+/// What a HIR term is printed with: the interner, and the variable table naming its variables.
+struct Names<'a> {
+    interner: &'a Interner,
+    vars: &'a VarTable,
 }
 
-impl NamedTree {
-    fn build(term: &Term, vars: &VarTable, interner: &Interner) -> NamedTree {
-        match term {
-            Term::Compound(f, args) => {
-                NamedTree::Compound(*f, args.iter().map(|a| NamedTree::build(a, vars, interner)).collect())
-            }
-            Term::Var(id) => {
-                let name = vars.vars.get(id.0 as usize).map_or(sym::ANON, |v| v.name);
-                let text = interner.resolve(name);
-                let printed = if text == "_" { format!("_G{}", id.0) } else { text.to_string() };
-                NamedTree::Leaf(term.clone(), printed)
-            }
-            other => NamedTree::Leaf(other.clone(), String::new()),
-        }
+impl PrintContext for Names<'_> {
+    fn interner(&self) -> &Interner {
+        self.interner
     }
 }
 
-impl TermView for NamedTree {
-    fn view<'a>(&'a self, _interner: &'a Interner) -> View<'a, Self> {
+impl<'n> TermView<Names<'n>> for Term {
+    fn view<'a>(&'a self, names: &'a Names<'n>) -> View<'a, Self> {
         match self {
-            NamedTree::Compound(f, args) => View::Compound(*f, args),
-            NamedTree::Leaf(Term::Var(_), name) => View::Var(name.as_str().into()),
-            NamedTree::Leaf(Term::Atom(s), _) => View::Atom(*s),
-            NamedTree::Leaf(Term::Int(i), _) => View::Int(*i),
-            NamedTree::Leaf(Term::Float(f), _) => View::Float(*f),
-            NamedTree::Leaf(Term::Str(s), _) => View::Str(*s),
-            NamedTree::Leaf(Term::Compound(..), _) => View::Error,
+            Term::Compound(f, args) => View::Compound(*f, args),
+            Term::Var(id) => {
+                // A source name, or `_G<n>` for `_` (and for a variable the table lacks).
+                let name = names.vars.vars.get(id.0 as usize).map_or(sym::ANON, |v| v.name);
+                match names.interner.resolve(name) {
+                    "_" => View::Var(format!("_G{}", id.0).into()),
+                    text => View::Var(text.into()),
+                }
+            }
+            Term::Atom(s) => View::Atom(*s),
+            Term::Int(i) => View::Int(*i),
+            Term::Float(f) => View::Float(*f),
+            Term::Str(s) => View::Str(*s),
         }
     }
 }

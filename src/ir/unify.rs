@@ -91,7 +91,7 @@ mod tests {
     use crate::intern::Symbol;
 
     fn c(f: u32, args: Vec<Term>) -> Term {
-        Term::Compound(Symbol(f), args.into_boxed_slice())
+        Term::Compound(Symbol(f), args.into())
     }
     fn v(i: u32) -> Term {
         Term::Var(VarId(i))

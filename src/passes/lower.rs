@@ -180,7 +180,7 @@ impl Lowerer<'_> {
                 let mut slot = &mut list;
                 for item in &l.items {
                     let item = self.term(item, scope);
-                    *slot = hir::Term::Compound(sym::CONS, Box::new([item, hir::Term::Atom(sym::NIL)]));
+                    *slot = hir::Term::Compound(sym::CONS, hir::Args::from([item, hir::Term::Atom(sym::NIL)]));
                     let hir::Term::Compound(_, cell) = slot else { unreachable!("just made a cell") };
                     slot = &mut cell[1];
                 }

@@ -37,7 +37,8 @@ pub(crate) fn to_stn_time(value: f64) -> Option<i64> {
 pub(crate) fn query_duration(machine: &mut Machine<'_>, instance: &Term) -> Result<Option<(f64, Option<f64>)>, String> {
     machine.reset();
     let mut vars = [None, None];
-    let query = Term::Compound(sym::DURATION, Box::new([instance.clone(), Term::Var(VarId(0)), Term::Var(VarId(1))]));
+    let query =
+        Term::Compound(sym::DURATION, hir::Args::from([instance.clone(), Term::Var(VarId(0)), Term::Var(VarId(1))]));
     let goal = machine.put_term(&query, &mut vars);
     let (Some(min), Some(max)) = (vars[0], vars[1]) else { return Err("internal: query variables".into()) };
     let mut found: Option<Result<(f64, Option<f64>), String>> = None;

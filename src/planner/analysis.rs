@@ -316,7 +316,7 @@ impl Explainer<'_, '_> {
         let shown = if arity == 0 {
             self.interner.resolve(name).to_string()
         } else {
-            hir::term_to_string(self.interner, &Term::Compound(name, target.to_vec().into_boxed_slice()), vars)
+            hir::term_to_string(self.interner, &Term::Compound(name, hir::Args::from(target.to_vec())), vars)
         };
         let producers: Vec<(usize, usize)> = task
             .schemas

@@ -32,13 +32,28 @@ pub enum View<'a, T> {
     Error,
 }
 
-/// Implemented by every term type that can be printed.
-pub trait TermView: Sized {
-    /// What this term is.
-    fn view<'a>(&'a self, interner: &'a Interner) -> View<'a, Self>;
+/// What the printer reads besides the term itself: the names of atoms, and whatever else a
+/// term type needs to show its variables (a HIR term's variables are numbers, named in the
+/// clause's variable table).
+pub trait PrintContext {
+    /// The names of atoms.
+    fn interner(&self) -> &Interner;
 }
 
-impl TermView for Term {
+impl PrintContext for Interner {
+    fn interner(&self) -> &Interner {
+        self
+    }
+}
+
+/// Implemented by every term type that can be printed, for the context `C` it is printed in.
+/// The printer walks the term itself, so printing builds no copy of it.
+pub trait TermView<C: PrintContext + ?Sized>: Sized {
+    /// What this term is.
+    fn view<'a>(&'a self, context: &'a C) -> View<'a, Self>;
+}
+
+impl TermView<Interner> for Term {
     fn view<'a>(&'a self, interner: &'a Interner) -> View<'a, Term> {
         match &self.kind {
             TermKind::Atom(s) => View::Atom(*s),
@@ -55,7 +70,7 @@ impl TermView for Term {
 }
 
 /// Prints `term` as a string, at the highest priority (no outer parentheses).
-pub fn term_to_string<T: TermView>(interner: &Interner, term: &T) -> String {
+pub fn term_to_string<C: PrintContext + ?Sized, T: TermView<C>>(interner: &C, term: &T) -> String {
     let mut out = String::new();
     write_term(&mut out, interner, term, 1200);
     out
@@ -63,8 +78,14 @@ pub fn term_to_string<T: TermView>(interner: &Interner, term: &T) -> String {
 
 /// Writes `term` into `out`; `max_priority` is the highest operator priority allowed without
 /// parentheses (999 for arguments, 1200 at the top).
-pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, max_priority: u16) {
-    match term.view(interner) {
+pub fn write_term<C: PrintContext + ?Sized, T: TermView<C>>(
+    out: &mut String,
+    context: &C,
+    term: &T,
+    max_priority: u16,
+) {
+    let interner = context.interner();
+    match term.view(context) {
         View::Atom(s) => {
             // An operator atom standing alone is parenthesised where it could be misread.
             if ops::is_operator(s) && max_priority < 1200 {
@@ -97,13 +118,13 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
             out.push('"');
         }
         View::Error => out.push_str("<error>"),
-        View::List(items, tail) => write_list(out, interner, items.iter(), tail),
-        View::Chain(functor, operands) => write_infix(out, interner, functor, operands, max_priority),
+        View::List(items, tail) => write_list(out, context, items.iter(), tail),
+        View::Chain(functor, operands) => write_infix(out, context, functor, operands, max_priority),
         View::Compound(functor, args) => {
             if functor == sym::CONS && args.len() == 2 {
-                write_cons_list(out, interner, &args[0], &args[1]);
+                write_cons_list(out, context, &args[0], &args[1]);
             } else if args.len() == 2 && ops::infix(functor).is_some() {
-                write_infix(out, interner, functor, args, max_priority);
+                write_infix(out, context, functor, args, max_priority);
             } else if args.len() == 1
                 && let Some(op) = ops::prefix(functor)
             {
@@ -114,7 +135,7 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
                 }
                 ops::write_atom(out, interner, functor);
                 out.push(' ');
-                write_term(out, interner, &args[0], arg_limit);
+                write_term(out, context, &args[0], arg_limit);
                 if parens {
                     out.push(')');
                 }
@@ -125,7 +146,7 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
                     if i > 0 {
                         out.push_str(", ");
                     }
-                    write_term(out, interner, arg, 999);
+                    write_term(out, context, arg, 999);
                 }
                 out.push(')');
             }
@@ -133,9 +154,9 @@ pub fn write_term<T: TermView>(out: &mut String, interner: &Interner, term: &T, 
     }
 }
 
-fn write_list<'a, T: TermView + 'a>(
+fn write_list<'a, C: PrintContext + ?Sized, T: TermView<C> + 'a>(
     out: &mut String,
-    interner: &Interner,
+    context: &C,
     items: impl Iterator<Item = &'a T>,
     tail: Option<&T>,
 ) {
@@ -144,11 +165,11 @@ fn write_list<'a, T: TermView + 'a>(
         if i > 0 {
             out.push_str(", ");
         }
-        write_term(out, interner, item, 999);
+        write_term(out, context, item, 999);
     }
     if let Some(tail) = tail {
         out.push('|');
-        write_term(out, interner, tail, 999);
+        write_term(out, context, tail, 999);
     }
     out.push(']');
 }
@@ -156,7 +177,14 @@ fn write_list<'a, T: TermView + 'a>(
 /// Writes `a op b op ... op z` for the infix operator `functor`: a binary term (two operands)
 /// or a flat chain standing for the right-nested one. Every operand but the last is written at
 /// the left argument's limit, the last at the right one's.
-fn write_infix<T: TermView>(out: &mut String, interner: &Interner, functor: Symbol, operands: &[T], max_priority: u16) {
+fn write_infix<C: PrintContext + ?Sized, T: TermView<C>>(
+    out: &mut String,
+    context: &C,
+    functor: Symbol,
+    operands: &[T],
+    max_priority: u16,
+) {
+    let interner = context.interner();
     let op = ops::infix(functor).expect("only infix operators are written infix");
     let (left, right) = op.argument_limits();
     let parens = op.priority > max_priority;
@@ -173,28 +201,28 @@ fn write_infix<T: TermView>(out: &mut String, interner: &Interner, functor: Symb
                 out.push(' ');
             }
         }
-        write_term(out, interner, operand, if i + 1 == operands.len() { right } else { left });
+        write_term(out, context, operand, if i + 1 == operands.len() { right } else { left });
     }
     if parens {
         out.push(')');
     }
 }
 
-fn write_cons_list<T: TermView>(out: &mut String, interner: &Interner, head: &T, tail: &T) {
+fn write_cons_list<C: PrintContext + ?Sized, T: TermView<C>>(out: &mut String, context: &C, head: &T, tail: &T) {
     out.push('[');
-    write_term(out, interner, head, 999);
+    write_term(out, context, head, 999);
     let mut rest = tail;
     loop {
-        match rest.view(interner) {
+        match rest.view(context) {
             View::Atom(s) if s == sym::NIL => break,
             View::Compound(functor, args) if functor == sym::CONS && args.len() == 2 => {
                 out.push_str(", ");
-                write_term(out, interner, &args[0], 999);
+                write_term(out, context, &args[0], 999);
                 rest = &args[1];
             }
             _ => {
                 out.push('|');
-                write_term(out, interner, rest, 999);
+                write_term(out, context, rest, 999);
                 break;
             }
         }
