@@ -353,6 +353,8 @@ pub struct Machine<'p> {
     choicepoints: Vec<Choicepoint>,
     steps: u64,
     budget: u64,
+    /// Whether a unification of the current query failed by the occurs check alone.
+    occurs_failed: bool,
 }
 
 impl<'p> Machine<'p> {
@@ -366,7 +368,15 @@ impl<'p> Machine<'p> {
             choicepoints: Vec::new(),
             steps: 0,
             budget,
+            occurs_failed: false,
         }
+    }
+
+    /// Whether some unification since the last [`Machine::reset`] failed only by the occurs
+    /// check (a variable against a term containing it, `X = f(X)`), where SWI-Prolog would
+    /// have made a cyclic term and gone on: diagnostics say so when a proof fails.
+    pub fn occurs_check_failed(&self) -> bool {
+        self.occurs_failed
     }
 
     /// Clears the heap and every other stack, for a new query.
@@ -376,6 +386,7 @@ impl<'p> Machine<'p> {
         self.conts.clear();
         self.choicepoints.clear();
         self.steps = 0;
+        self.occurs_failed = false;
     }
 
     /// The steps the last query took.
@@ -562,6 +573,7 @@ impl<'p> Machine<'p> {
                 }
                 (Cell::Ref(x), other) | (other, Cell::Ref(x)) => {
                     if matches!(other, Cell::Struct(_)) && self.occurs(x, other) {
+                        self.occurs_failed = true;
                         return false;
                     }
                     self.bind(x, other)

@@ -378,12 +378,20 @@ impl Explainer<'_, '_> {
                 }
                 return;
             }
-            if let Some(goal) = self.failing_on_kb_goal(task, s, &bindings) {
+            if let Some((goal, occurs_check)) = self.failing_on_kb_goal(task, s, &bindings) {
                 let goal_shown =
                     hir::term_to_string(self.interner, &substitute(&goal.term, &task.consts, &bindings), &action.vars);
                 self.notes.push(format!(
                     "`{action_name}` would add `{shown}`, but its OnKB goal `{goal_shown}` is not provable from the KB"
                 ));
+                if occurs_check {
+                    self.notes.push(
+                        "a unification in that proof failed by the occurs check (a variable against a term \
+                         that contains it, as `X = f(X)`): kbc builds no cyclic terms, where SWI-Prolog makes \
+                         one and goes on (docs/dsl.md, \"Built-ins\")"
+                            .to_string(),
+                    );
+                }
                 self.label(goal.span, format!("`{goal_shown}` is not provable"));
                 return;
             }
@@ -416,8 +424,14 @@ impl Explainer<'_, '_> {
     }
 
     /// The first OnKB goal of schema `s` that no solution of the goals before it satisfies,
-    /// under `bindings`; `None` if they all have solutions (or the engine fails).
-    fn failing_on_kb_goal(&mut self, task: &Task, s: usize, bindings: &[Option<ConstId>]) -> Option<hir::Literal> {
+    /// under `bindings`, and whether the occurs check failed a unification while it was tried;
+    /// `None` if they all have solutions (or the engine fails).
+    fn failing_on_kb_goal(
+        &mut self,
+        task: &Task,
+        s: usize,
+        bindings: &[Option<ConstId>],
+    ) -> Option<(hir::Literal, bool)> {
         use crate::engine::{Cell, Next};
         let schema = &task.schemas[s];
         for k in 1..=schema.on_kb.len() {
@@ -442,7 +456,7 @@ impl Explainer<'_, '_> {
                 schema.on_kb[k - 1].for_each_call(&mut |l| {
                     first.get_or_insert_with(|| l.clone());
                 });
-                return first;
+                return first.map(|l| (l, self.machine.occurs_check_failed()));
             }
         }
         None
