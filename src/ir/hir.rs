@@ -779,7 +779,21 @@ pub fn verify(kb: &Kb, files: usize) -> Result<(), String> {
         check_span(l.span, files, what)?;
         check_term(&l.term, vars, what)
     }
+    fn has_empty_or(g: &Goal) -> bool {
+        match g {
+            Goal::Call(_) => false,
+            Goal::And(goals) => goals.iter().any(has_empty_or),
+            Goal::Or(branches) => {
+                branches.is_empty()
+                    || branches.iter().any(|b| b.conditions.iter().any(has_empty_or) || has_empty_or(&b.goal))
+            }
+            Goal::Not(g) => has_empty_or(g),
+        }
+    }
     fn check_goal(g: &Goal, vars: &VarTable, files: usize, what: &str) -> Result<(), String> {
+        if has_empty_or(g) {
+            return Err(format!("{what}: a disjunction without branches"));
+        }
         let mut result = Ok(());
         g.for_each_call(&mut |l| {
             if result.is_ok() {
