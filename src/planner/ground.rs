@@ -333,15 +333,34 @@ impl GroundTask {
         let mut reached: Vec<u32> = vec![NONE; goals];
         let mut remaining_goals = goals;
         let mut h_add = 0u32;
+        // The loop below is most of the search's time on large tasks: it works on the fields
+        // borrowed apart, so the slices stay in registers and their bounds are checked once
+        // per range rather than reloaded after every write.
+        let GroundTask {
+            users_start,
+            users,
+            add_start,
+            add,
+            weight,
+            goals_of_start,
+            goals_of,
+            cost: costs,
+            done,
+            supporter,
+            remaining,
+            action_cost,
+            queue,
+            ..
+        } = self;
         while remaining_goals > 0 {
-            let Some((cost, fact)) = self.queue.pop() else { break };
+            let Some((cost, fact)) = queue.pop() else { break };
             let f = fact as usize;
-            if self.done[f] || cost > self.cost[f] {
+            if done[f] || cost > costs[f] {
                 continue;
             }
-            self.done[f] = true;
-            for k in self.goals_of_start[f]..self.goals_of_start[f + 1] {
-                let g = self.goals_of[k as usize] as usize;
+            done[f] = true;
+            for &g in &goals_of[goals_of_start[f] as usize..goals_of_start[f + 1] as usize] {
+                let g = g as usize;
                 if reached[g] == NONE {
                     reached[g] = fact;
                     remaining_goals -= 1;
@@ -351,14 +370,20 @@ impl GroundTask {
             if remaining_goals == 0 {
                 break;
             }
-            for k in self.users_start[f]..self.users_start[f + 1] {
-                let a = self.users[k as usize] as usize;
-                self.action_cost[a] = self.action_cost[a].saturating_add(cost);
-                self.remaining[a] -= 1;
-                if self.remaining[a] == 0 {
-                    let fired = self.action_cost[a].saturating_add(self.weight[a]);
-                    for j in self.add_start[a]..self.add_start[a + 1] {
-                        self.relax(self.add[j as usize], fired, a as u32);
+            for &a in &users[users_start[f] as usize..users_start[f + 1] as usize] {
+                let a = a as usize;
+                action_cost[a] = action_cost[a].saturating_add(cost);
+                remaining[a] -= 1;
+                if remaining[a] == 0 {
+                    let fired = action_cost[a].saturating_add(weight[a]);
+                    for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
+                        let g = added as usize;
+                        // As `relax`.
+                        if !done[g] && fired < costs[g] {
+                            costs[g] = fired;
+                            supporter[g] = a as u32;
+                            queue.push(fired, added);
+                        }
                     }
                 }
             }
