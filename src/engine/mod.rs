@@ -24,7 +24,7 @@ mod arith;
 use rustc_hash::FxHashMap;
 
 use crate::intern::{Interner, Symbol, sym};
-use crate::ir::hir::{self, Branch, Goal, Kb, Literal, Term, VarId};
+use crate::ir::hir::{self, Goal, Kb, Literal, Term, VarId};
 
 /// One heap cell.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,40 +163,76 @@ impl TemplateBuilder {
         Cell::Struct(at)
     }
 
-    /// A branch `C1 -> (C2 -> ... G)` as the term it was read from.
-    fn branch(&mut self, branch: &Branch) -> Cell {
-        let conditions: Vec<Cell> = branch.conditions.iter().map(|c| self.goal(c)).collect();
-        let mut cell = self.goal(&branch.goal);
-        for &condition in conditions.iter().rev() {
-            cell = self.compound(sym::ARROW, &[condition, cell]);
-        }
-        cell
+    fn goal(&mut self, goal: &Goal) -> Cell {
+        goal_term(self, goal)
+    }
+}
+
+impl GoalBuilder for TemplateBuilder {
+    fn call(&mut self, term: &Term) -> Cell {
+        self.term(term)
     }
 
-    fn goal(&mut self, goal: &Goal) -> Cell {
-        match goal {
-            Goal::Call(literal) => self.term(&literal.term),
-            Goal::And(goals) => {
-                let mut cells: Vec<Cell> = goals.iter().map(|g| self.goal(g)).collect();
-                let mut conjunction = cells.pop().unwrap_or(Cell::Atom(sym::TRUE));
-                while let Some(left) = cells.pop() {
-                    conjunction = self.compound(sym::COMMA, &[left, conjunction]);
-                }
-                conjunction
-            }
-            Goal::Or(branches) => {
-                let mut cells: Vec<Cell> = branches.iter().map(|b| self.branch(b)).collect();
-                let mut disjunction = cells.pop().expect("a disjunction has a branch");
-                while let Some(left) = cells.pop() {
-                    disjunction = self.compound(sym::SEMI, &[left, disjunction]);
-                }
-                disjunction
-            }
-            Goal::Not(g) => {
-                let g = self.goal(g);
-                self.compound(sym::NOT_PROVABLE, &[g])
-            }
+    fn compound(&mut self, functor: Symbol, args: &[Cell]) -> Cell {
+        TemplateBuilder::compound(self, functor, args)
+    }
+}
+
+/// Where a goal's control term is built: a clause template, or the machine's heap.
+trait GoalBuilder {
+    /// The term of a called literal.
+    fn call(&mut self, term: &Term) -> Cell;
+    /// A compound of `args`.
+    fn compound(&mut self, functor: Symbol, args: &[Cell]) -> Cell;
+}
+
+/// A goal as the control term Prolog reads: `','/2`, `;/2` and `->/2` nested to the right,
+/// `\+/1`, and the literals' terms, built left to right (the order variables are met in).
+fn goal_term(builder: &mut impl GoalBuilder, goal: &Goal) -> Cell {
+    match goal {
+        Goal::Call(literal) => builder.call(&literal.term),
+        Goal::And(goals) => {
+            let mut cells: Vec<Cell> = goals.iter().map(|g| goal_term(builder, g)).collect();
+            let last = cells.pop().unwrap_or(Cell::Atom(sym::TRUE));
+            nest_right(builder, sym::COMMA, cells, last)
         }
+        Goal::Or(branches) => {
+            let mut cells: Vec<Cell> = branches
+                .iter()
+                .map(|branch| {
+                    let conditions: Vec<Cell> = branch.conditions.iter().map(|c| goal_term(builder, c)).collect();
+                    let goal = goal_term(builder, &branch.goal);
+                    nest_right(builder, sym::ARROW, conditions, goal)
+                })
+                .collect();
+            let last = cells.pop().expect("a disjunction has a branch");
+            nest_right(builder, sym::SEMI, cells, last)
+        }
+        Goal::Not(g) => {
+            let g = goal_term(builder, g);
+            builder.compound(sym::NOT_PROVABLE, &[g])
+        }
+    }
+}
+
+/// `op(b1, op(b2, ... op(bn, last)))` for `before` = b1 ... bn.
+fn nest_right(builder: &mut impl GoalBuilder, op: Symbol, before: Vec<Cell>, last: Cell) -> Cell {
+    before.into_iter().rev().fold(last, |nested, left| builder.compound(op, &[left, nested]))
+}
+
+/// The machine's heap as a [`GoalBuilder`], with the query's variables.
+struct OnHeap<'m, 'p, 'v> {
+    machine: &'m mut Machine<'p>,
+    vars: &'v mut [Option<Cell>],
+}
+
+impl GoalBuilder for OnHeap<'_, '_, '_> {
+    fn call(&mut self, term: &Term) -> Cell {
+        self.machine.put_term(term, self.vars)
+    }
+
+    fn compound(&mut self, functor: Symbol, args: &[Cell]) -> Cell {
+        self.machine.new_compound(functor, args)
     }
 }
 
@@ -449,41 +485,9 @@ impl<'p> Machine<'p> {
         conjunction
     }
 
-    /// Places a branch of a disjunction on the heap: `C1 -> (C2 -> ... G)`.
-    fn put_branch(&mut self, branch: &Branch, vars: &mut [Option<Cell>]) -> Cell {
-        let conditions: Vec<Cell> = branch.conditions.iter().map(|c| self.put_goal(c, vars)).collect();
-        let mut cell = self.put_goal(&branch.goal, vars);
-        for &condition in conditions.iter().rev() {
-            cell = self.new_compound(sym::ARROW, &[condition, cell]);
-        }
-        cell
-    }
-
     /// Places a goal on the heap, as [`Machine::put_term`] does for terms.
     pub fn put_goal(&mut self, goal: &Goal, vars: &mut [Option<Cell>]) -> Cell {
-        match goal {
-            Goal::Call(literal) => self.put_term(&literal.term, vars),
-            Goal::And(goals) => {
-                let mut cells: Vec<Cell> = goals.iter().map(|g| self.put_goal(g, vars)).collect();
-                let mut conjunction = cells.pop().unwrap_or(Cell::Atom(sym::TRUE));
-                while let Some(left) = cells.pop() {
-                    conjunction = self.new_compound(sym::COMMA, &[left, conjunction]);
-                }
-                conjunction
-            }
-            Goal::Or(branches) => {
-                let mut cells: Vec<Cell> = branches.iter().map(|b| self.put_branch(b, vars)).collect();
-                let mut disjunction = cells.pop().expect("a disjunction has a branch");
-                while let Some(left) = cells.pop() {
-                    disjunction = self.new_compound(sym::SEMI, &[left, disjunction]);
-                }
-                disjunction
-            }
-            Goal::Not(g) => {
-                let g = self.put_goal(g, vars);
-                self.new_compound(sym::NOT_PROVABLE, &[g])
-            }
-        }
+        goal_term(&mut OnHeap { machine: self, vars }, goal)
     }
 
     /// Follows variable bindings to the cell a term stands for.
