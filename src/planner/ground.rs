@@ -290,12 +290,7 @@ impl GroundTask {
     }
 
     fn relax(&mut self, fact: u32, cost: u32, supporter: u32) {
-        let f = fact as usize;
-        if !self.done[f] && cost < self.cost[f] {
-            self.cost[f] = cost;
-            self.supporter[f] = supporter;
-            self.queue.push(cost, fact);
-        }
+        relax(&mut self.cost, &self.done, &mut self.supporter, &mut self.queue, fact, cost, supporter);
     }
 
     /// Evaluates the state whose facts are the view tuples `start`.
@@ -377,13 +372,7 @@ impl GroundTask {
                 if remaining[a] == 0 {
                     let fired = action_cost[a].saturating_add(weight[a]);
                     for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
-                        let g = added as usize;
-                        // As `relax`.
-                        if !done[g] && fired < costs[g] {
-                            costs[g] = fired;
-                            supporter[g] = a as u32;
-                            queue.push(fired, added);
-                        }
+                        relax(costs, done, supporter, queue, added, fired, a as u32);
                     }
                 }
             }
@@ -439,6 +428,27 @@ impl GroundTask {
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();
+    }
+}
+
+/// Offers `fact` the cost `cost` through the action `by`: taken if the fact is not settled
+/// and has no cheaper cost yet. A function of the fields, not of the task, so the evaluation's
+/// loop can call it with the task's fields borrowed apart.
+#[inline]
+fn relax(
+    costs: &mut [u32],
+    done: &[bool],
+    supporter: &mut [u32],
+    queue: &mut BucketQueue,
+    fact: u32,
+    cost: u32,
+    by: u32,
+) {
+    let f = fact as usize;
+    if !done[f] && cost < costs[f] {
+        costs[f] = cost;
+        supporter[f] = by;
+        queue.push(cost, fact);
     }
 }
 
