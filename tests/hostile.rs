@@ -8,7 +8,7 @@
 //!
 //! The binary is run with a virtual-memory limit (`ulimit -v`, 6 GiB: the worker thread
 //! reserves 2 GiB of stack address space; the largest of these inputs, the body of a million
-//! goals, peaks at about 400 MB in a release build) and a
+//! goals, peaked at 87 MB in a release build, measured by hand) and a
 //! wall-clock limit that only catches hangs (a debug build is slow; speed is measured by
 //! hand in release builds, see the closing notes of issue 24).
 

@@ -4,8 +4,10 @@
 //! [`Term`] 24 bytes and a list cell (two terms) a 48-byte allocation that glibc's malloc
 //! rounds up to a 64-byte chunk. `Args` keeps the count at the front of the allocation
 //! instead: the pointer is 8 bytes, a term 16, and a list cell 8 + 2 x 16 = 40 bytes in a
-//! 48-byte chunk. A fact holding a list of a million items lowered to 64 MB of cells; it
-//! now takes 48 MB (measured with massif, see the closing notes of issue 24).
+//! 48-byte chunk. For a fact holding a list of a million items, massif counted 48,000,048
+//! bytes of cells before and 40,000,040 after (64 and 48 MB in glibc's chunks, by the
+//! rounding above); `kbc check` of it peaked at 115 MB before this and the iterative drop
+//! below, 86 MB after (/usr/bin/time; see the closing notes of issue 24).
 //!
 //! This is the crate's only unsafe code. The invariants, which every function below keeps:
 //! `ptr` points to an allocation made with [`Args::layout`]`(len)`, whose first 8 bytes hold
