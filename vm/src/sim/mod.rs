@@ -402,11 +402,27 @@ impl SimHost {
                 }
             }
         }
+        // Arms holding a block first take it up to their resting points, out of each other's
+        // way: two arms that stopped over one cell would block each other's put-downs there.
+        // Each then puts its block down on the free cell nearest to where it held it.
+        let mut holding = Vec::new();
         for a in 0..self.world.arms.len() {
             let Some((block, _)) = self.world.arms[a].holding.filter(|_| working(&self.world, a)) else { continue };
-            let (arm, name) = (self.world.arms[a].name.clone(), self.world.blocks[block].name.clone());
             let here = self.world.gripper_position(a);
-            let Some((x, y)) = self.world.nearest_free_cell(here.x, here.y) else {
+            holding.push((a, block, (here.x, here.y)));
+        }
+        for &(a, block, _) in &holding {
+            if let Err(why) = self.run_task(a, vec![Primitive::Lift, Primitive::Home]) {
+                let (arm, name) = (&self.world.arms[a].name, &self.world.blocks[block].name);
+                report.push(format!("{arm} could not take `{name}` to its resting point: {why}"));
+            }
+        }
+        for (a, block, (hx, hy)) in holding {
+            if self.world.arms[a].holding.is_none() {
+                continue;
+            }
+            let (arm, name) = (self.world.arms[a].name.clone(), self.world.blocks[block].name.clone());
+            let Some((x, y)) = self.world.nearest_free_cell(hx, hy) else {
                 report.push(format!("{arm} keeps `{name}`: no cell is free to put it down"));
                 continue;
             };
@@ -615,5 +631,50 @@ impl Host for SimHost {
 impl crate::run::VirtualHost for SimHost {
     fn next_completion(&self, now: i64) -> Option<i64> {
         self.next_step().map(|t| t.max(now + 1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn atom(s: &str) -> Arg {
+        Arg::Atom(s.to_string())
+    }
+
+    #[test]
+    fn recovery_puts_down_blocks_held_by_arms_in_each_others_way() {
+        // Two arms stop holding blocks over the same part of the table, each in the other's
+        // way (as after a move that one of them could not finish): recovery must still put
+        // both blocks down and free both arms.
+        let facts = vec![
+            Fact::new("ontable", vec![atom("b1"), Arg::Int(1), Arg::Int(1)]),
+            Fact::new("ontable", vec![atom("b2"), Arg::Int(3), Arg::Int(3)]),
+            Fact::new("available", vec![atom("a1")]),
+            Fact::new("available", vec![atom("a2")]),
+        ];
+        let cells = [(1, 1), (2, 2), (3, 3), (2, 1)];
+        let world = World::new(SimConfig::default(), &facts, &cells).expect("a world");
+        let mut host = SimHost::new(world);
+        let (b1, b2) = (host.world.block_index("b1").unwrap(), host.world.block_index("b2").unwrap());
+        let grip = |b: usize| vec![Primitive::Reach(b), Primitive::Descend, Primitive::Close(b), Primitive::Lift];
+        assert_eq!(host.run_task(0, grip(b1)), Ok(()));
+        assert_eq!(host.run_task(1, grip(b2)), Ok(()));
+        assert_eq!(host.run_task(0, vec![Primitive::MoveOver(2, 2)]), Ok(()));
+        // a2 stops with its gripper 3 cm from a1's, as two arms that blocked each other do.
+        let spot = host.world.gripper_position(0) + nalgebra::Vector3::new(0.03, 0.0, 0.0);
+        host.world.arms[1].joints = host.world.arms[1].model.inverse(spot).expect("reachable");
+        host.advance_world_to(host.now + host.world.config.step_units);
+        let report = host.recover();
+        for block in ["b1", "b2"] {
+            let put = format!("put `{block}` down on cell");
+            assert!(report.iter().any(|line| line.contains(&put)), "{report:?}");
+        }
+        let (facts, unaccounted) = host.world.facts();
+        assert!(unaccounted.is_empty(), "{unaccounted:?}");
+        let texts: Vec<String> = facts.iter().map(Fact::to_string).collect();
+        for fact in ["available(a1)", "available(a2)", "clear(b1)", "clear(b2)"] {
+            assert!(texts.iter().any(|t| t == fact), "{fact} after {report:?}: {texts:?}");
+        }
     }
 }

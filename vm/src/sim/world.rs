@@ -520,7 +520,7 @@ impl World {
     }
 
     /// Advances arm `arm` one step along `line`, the front of its motion. A step that would
-    /// bring its gripper within the safety distance of another one is held back; held back
+    /// bring its gripper closer to another one, within the safety distance, is held back; held back
     /// for `blocked_seconds`, the primitive fails.
     fn follow(&mut self, arm: usize, mut line: Line, dt: f64) {
         let Some((next, done)) = line.step(&self.arms[arm].model, self.arms[arm].joints, dt) else {
@@ -529,10 +529,14 @@ impl World {
             return;
         };
         let at = self.arms[arm].model.forward(next);
+        let here = self.gripper_position(arm);
+        // A step that does not close in on the other gripper is never held back: an arm may
+        // always back away (two arms stopped close together could otherwise never part).
         let blocker = (0..self.arms.len())
             .filter(|&b| b != arm)
-            .map(|b| (b, (self.gripper_position(b) - at).norm()))
-            .find(|&(_, d)| d < self.config.safety_distance);
+            .map(|b| (b, (self.gripper_position(b) - at).norm(), (self.gripper_position(b) - here).norm()))
+            .find(|&(_, d, now)| d < self.config.safety_distance && d < now)
+            .map(|(b, d, _)| (b, d));
         let patience = (self.config.blocked_seconds / dt).ceil() as u32;
         let why = blocker.map(|(b, d)| {
             format!(
