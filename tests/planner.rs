@@ -233,6 +233,105 @@ fn the_ground_heuristic_computes_the_lifted_h_add() {
     }
 }
 
+/// A depot KB in another shape than std/blocks.pl: robots (the resource) carry packages
+/// between spots, a spot holds one package, and the move's disequality is written
+/// `S2 \== S1`. With `first`, the disequality comes before the condition that binds `S2`, so
+/// it holds whatever `S1` is (Prolog's `\==` on an unbound variable): a different relaxation.
+fn depot(first: bool) -> Frontend {
+    let conditions = if first { "[S2 \\== S1, target(P, S2)]" } else { "[target(P, S2), S2 \\== S1]" };
+    let source = format!(
+        "resources(idle(_)).
+spot(1). spot(2). spot(3). spot(4). spot(5).
+target(P, S) :- spot(S), \\+ forbidden(P, S).
+forbidden(p1, 5).
+action(carry_start(R, P, S1, S2),
+    [idle(R), at(P, S1)],
+    [],
+    [],
+    {conditions},
+    [del(idle(R)), del(at(P, S1)), add(carrying(R, P, S1, S2))]).
+action(carry_end(R, P, S1, S2),
+    [carrying(R, P, S1, S2)],
+    [at(_, S2)],
+    [],
+    [],
+    [del(carrying(R, P, S1, S2)), add(at(P, S2)), add(idle(R))]).
+duration(carry(_, _, _, _), 1, 3).
+init_state([idle(r1), idle(r2), at(p1, 1), at(p2, 2), at(p3, 3)]).
+goal_state([at(p1, 2), at(p2, 3), at(p3, 1)]).
+"
+    );
+    let (_, frontend, diagnostics) = kbc::session::Session::from_text("depot.pl", source).into_parts();
+    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    frontend
+}
+
+#[test]
+fn exclusion_nodes_keep_every_ground_h_add() {
+    // A rule whose literal matters only through a disequality (a move's source cell) is
+    // grounded without it, through exclusion nodes: far fewer actions, and on every state the
+    // same h_add as grounding every instantiation, with and without Invalid conditions.
+    let rung = Rung { family: Family::Reverse, blocks: 10, arms: 3, seed: 1 };
+    let (_, blocks, _) = kbc::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+    // (name, KB, whether a rule has an exclusion, the least factor it divides the actions by)
+    let cases: Vec<(&str, Frontend, bool, usize)> = vec![
+        ("std/blocks.pl", blocks, true, 2),
+        ("paper tests", load(&["examples/01_paper_tests/tests.pl"]), true, 1),
+        ("depot", depot(false), true, 1),
+        ("depot, disequality first", depot(true), false, 1),
+    ];
+    for (name, frontend, excluded, factor) in &cases {
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let states = random_walk(&mut task, &mut successors, 60, 5);
+        let lifted = Relaxation::new(&task);
+        assert_eq!(lifted.exclusions() > 0, *excluded, "{name}: exclusions found");
+        let mut grounds = Vec::new();
+        for (negative, every) in [(false, false), (false, true), (true, false), (true, true)] {
+            let mut relaxation = Relaxation::new(&task);
+            if every {
+                relaxation.ground_every_instantiation();
+            }
+            let (machine, cache) = successors.parts();
+            assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, negative).expect("no engine error"));
+            grounds.push(relaxation);
+        }
+        if *excluded {
+            let (split, every) = (grounds[2].ground_actions().unwrap(), grounds[3].ground_actions().unwrap());
+            assert!(
+                split * factor <= every && split < every,
+                "{name}: {split} ground actions with exclusion nodes, {every} without"
+            );
+        }
+        let mut lifted = lifted;
+        let mut informative = 0;
+        for state in &states {
+            let (machine, cache) = successors.parts();
+            let reference = lifted.evaluate(&mut task, state, machine, cache, false).expect("no engine error").h_add;
+            let estimates: Vec<_> = grounds
+                .iter_mut()
+                .map(|g| g.evaluate(&mut task, state, machine, cache, true).expect("no engine error"))
+                .collect();
+            let h: Vec<Option<u32>> = estimates.iter().map(|e| e.h_add).collect();
+            assert_eq!((h[0], h[1]), (reference, reference), "{name}: ground h_add differs from the lifted");
+            assert_eq!(h[2], h[3], "{name}: exclusion nodes change the h_add with Invalid conditions");
+            // The relaxed plan takes, for an exclusion node, the tuple the whole instantiation
+            // that first reached it read, and a chosen part handles what its other part adds:
+            // so it is as long as the one over whole instantiations.
+            assert_eq!(estimates[2].h_ff, estimates[3].h_ff, "{name}: exclusion nodes change h_FF");
+            assert_eq!(estimates[0].h_ff, estimates[1].h_ff, "{name}: exclusion nodes change h_FF");
+            informative += usize::from(h[3] != h[1]);
+        }
+        assert!(states.len() > 10, "{name}: a walk of {} states", states.len());
+        // Invalid conditions must have mattered somewhere, or the second comparison tests
+        // nothing that the first does not.
+        assert!(informative > 0 || !excluded, "{name}: Invalid conditions never changed h_add");
+    }
+}
+
 #[test]
 fn no_state_on_a_valid_plan_is_called_a_dead_end() {
     // Dead ends are pruned, so the relaxation with Invalid conditions must find the goal

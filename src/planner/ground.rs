@@ -22,8 +22,18 @@ use crate::ir::task::ConstId;
 /// One rule instantiation recorded during grounding: tuples as (view, index in view).
 pub(super) struct RecordedAction {
     pub rule: u32,
+    /// Its variables' values, as a helpful action names it.
     pub bindings: Box<[Option<ConstId>]>,
+    /// What tells it apart from the rule's other actions, where not its bindings (the part of
+    /// an instantiation that deletes: see [`RecordedAction::pair`]).
+    pub key: Option<Box<[Option<ConstId>]>>,
     pub pre: Vec<(u32, u32)>,
+    /// An exclusion node it also needs (a number of [`Auxiliary::exclusion_node`]).
+    pub exclusion: Option<u32>,
+    /// For the part of an instantiation split at an exclusion that deletes: the action
+    /// recorded as the adding part of the same instantiation (an index into the recorded
+    /// actions, which are the ground task's first actions, in order).
+    pub pair: Option<u32>,
     pub add: Vec<(u32, u32)>,
     /// The Invalid literal instances it must respect, by number.
     pub invalid: Vec<u32>,
@@ -32,6 +42,39 @@ pub(super) struct RecordedAction {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// Where an auxiliary node's achiever reads from: a view tuple, or another auxiliary node.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Source {
+    Tuple(u32, u32),
+    Aux(u32),
+}
+
+/// Auxiliary nodes of the ground task (the relaxation's exclusion nodes), achieved at no cost
+/// by actions of one precondition each: they stand for a choice among tuples, as "some fact
+/// of this group other than that one". They are not landmarks and add nothing to h_FF.
+#[derive(Debug, Default)]
+pub(super) struct Auxiliary {
+    /// The number of auxiliary nodes.
+    pub count: u32,
+    /// The achievers: (what it reads, the node it achieves).
+    pub links: Vec<(Source, u32)>,
+    /// Per exclusion number, its node.
+    pub exclusion_node: Vec<u32>,
+    /// The tuples of every group, a group after another, each sorted by the values of its
+    /// excluded variables.
+    pub members: Vec<(u32, u32)>,
+    /// Per exclusion number, the tuples it chooses from: its group's range of `members`, and
+    /// the range within it that it excludes.
+    pub choices: Vec<[u32; 4]>,
+}
+
+impl RecordedAction {
+    /// What tells it apart from the other actions of its rule.
+    pub fn key(&self) -> &[Option<ConstId>] {
+        self.key.as_deref().unwrap_or(&self.bindings)
+    }
+}
 
 /// What the ground task needs for Invalid conditions: the whole-fact views of negated
 /// predicates, and per Invalid literal instance the tuples it forbids.
@@ -46,6 +89,16 @@ pub(super) struct GroundTask {
     schema: Vec<u32>,
     pub(super) weight: Vec<u32>,
     bindings: Vec<Box<[Option<ConstId>]>>,
+    /// Per action, the adding part it pairs with ([`RecordedAction::pair`]), or `NONE`.
+    pair: Vec<u32>,
+    /// Per action, the exclusion number it reads (see [`Auxiliary::choices`]), or `NONE`;
+    /// the choices, and the members they index, as fact nodes.
+    exclusion_of: Vec<u32>,
+    choices: Vec<[u32; 4]>,
+    members: Vec<u32>,
+    /// View tuples to the deleting parts that read them (CSR layout).
+    deleters_start: Vec<u32>,
+    deleters: Vec<u32>,
     pub(super) pre_start: Vec<u32>,
     pub(super) pre: Vec<u32>,
     pub(super) add_start: Vec<u32>,
@@ -67,6 +120,8 @@ pub(super) struct GroundTask {
     /// achieves it.
     pub(super) instance_base: u32,
     pub(super) instance_actions: Vec<u32>,
+    /// The first auxiliary node (see [`Auxiliary`]): every node from here on is one.
+    pub(super) aux_base: u32,
     /// Per goal literal (of the relaxation), the facts that satisfy it.
     pub(super) goal_options: Vec<Vec<u32>>,
     /// The goal literals by fact, for the check when a fact settles (CSR layout).
@@ -164,6 +219,7 @@ impl GroundTask {
         schemas: &[u32],
         goals: &[Vec<(u32, u32)>],
         negative: Option<Negative<'_>>,
+        auxiliary: Auxiliary,
     ) -> Self {
         let mut offsets = Vec::with_capacity(sizes.len());
         let mut facts = 0usize;
@@ -188,6 +244,8 @@ impl GroundTask {
             instance_base = nodes as u32;
             nodes += candidates.len();
         }
+        let aux_base = nodes as u32;
+        nodes += auxiliary.count as usize;
         let negation = |(view, t): (u32, u32)| negation_base[view as usize] + t;
         let mut task = GroundTask {
             offsets: Vec::new(),
@@ -195,6 +253,12 @@ impl GroundTask {
             schema: Vec::with_capacity(actions.len()),
             weight: Vec::with_capacity(actions.len()),
             bindings: Vec::with_capacity(actions.len()),
+            pair: Vec::with_capacity(actions.len()),
+            deleters_start: Vec::new(),
+            deleters: Vec::new(),
+            exclusion_of: Vec::with_capacity(actions.len()),
+            choices: auxiliary.choices.clone(),
+            members: auxiliary.members.iter().map(|&p| id(p)).collect(),
             pre_start: vec![0],
             pre: Vec::new(),
             add_start: vec![0],
@@ -208,6 +272,7 @@ impl GroundTask {
             negation_base: negation_base.clone(),
             instance_base,
             instance_actions: Vec::new(),
+            aux_base,
             goal_options: goals.iter().map(|g| g.iter().map(|&p| id(p)).collect()).collect(),
             goals_of_start: Vec::new(),
             goals_of: Vec::new(),
@@ -239,12 +304,15 @@ impl GroundTask {
         };
         for action in actions {
             let mut pre: Vec<u32> = action.pre.iter().map(|&p| id(p)).collect();
+            pre.extend(action.exclusion.map(|e| aux_base + auxiliary.exclusion_node[e as usize]));
             let mut add: Vec<u32> = action.add.iter().map(|&p| id(p)).collect();
             if negative.is_some() {
                 pre.extend(action.invalid.iter().map(|&i| instance_base + i));
                 add.extend(action.deletes.iter().map(|&p| negation(p)));
             }
             push(&mut task, schemas[action.rule as usize], 1, action.bindings, pre, add);
+            task.pair.push(action.pair.unwrap_or(NONE));
+            task.exclusion_of.push(action.exclusion.unwrap_or(NONE));
         }
         // Each Invalid literal instance holds once every fact it forbids is absent or deleted.
         if let Some((_, candidates)) = negative {
@@ -252,9 +320,30 @@ impl GroundTask {
                 task.instance_actions.push(task.schema.len() as u32);
                 let pre = forbidden.iter().map(|&p| negation(p)).collect();
                 push(&mut task, u32::MAX, 0, Box::new([]), pre, vec![instance_base + i as u32]);
+                task.pair.push(NONE);
+                task.exclusion_of.push(NONE);
             }
         }
+        for &(source, node) in &auxiliary.links {
+            let from = match source {
+                Source::Tuple(view, t) => id((view, t)),
+                Source::Aux(a) => aux_base + a,
+            };
+            push(&mut task, u32::MAX, 0, Box::new([]), vec![from], vec![aux_base + node]);
+            task.pair.push(NONE);
+            task.exclusion_of.push(NONE);
+        }
         let count = task.schema.len();
+        let deleting: Vec<(u32, u32)> = (0..count)
+            .filter(|&a| task.pair[a] != NONE)
+            .flat_map(|a| {
+                let range = task.pre_start[a] as usize..task.pre_start[a + 1] as usize;
+                task.pre[range].iter().filter(|&&p| (p as usize) < facts).map(move |&p| (p, a as u32))
+            })
+            .collect();
+        let (deleters_start, deleters) = csr(facts, deleting.into_iter());
+        task.deleters_start = deleters_start;
+        task.deleters = deleters;
         let pairs: Vec<(u32, u32)> = (0..count)
             .flat_map(|a| {
                 let range = task.pre_start[a] as usize..task.pre_start[a + 1] as usize;
@@ -414,9 +503,15 @@ impl GroundTask {
             for k in self.add_start[a]..self.add_start[a + 1] {
                 handled[self.add[k as usize] as usize] = true;
             }
+            let member = self.chosen_member(a);
+            self.handle_other_part(a, member, &mut handled);
             let mut first_layer = true;
             for k in self.pre_start[a]..self.pre_start[a + 1] {
-                let p = self.pre[k as usize];
+                // An exclusion node stands for the tuple chosen for it.
+                let p = match self.pre[k as usize] {
+                    p if p >= self.aux_base && member != NONE => member,
+                    p => p,
+                };
                 first_layer &= self.cost[p as usize] == 0;
                 pending.push((self.cost[p as usize], p));
             }
@@ -428,6 +523,56 @@ impl GroundTask {
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();
+    }
+}
+
+impl GroundTask {
+    /// For a part of an instantiation split at an exclusion, chosen for the relaxed plan:
+    /// marks what the other part of that instantiation adds as handled, as choosing the whole
+    /// instantiation did before the split (so the move that takes a block where the plan
+    /// wants it also empties the cell it leaves, and counts once). For the deleting part, the
+    /// instantiation is the first one recorded (the one the whole action that first reached
+    /// the deletion stood for); for the adding part, the one reading the tuple its exclusion
+    /// node was reached through.
+    fn handle_other_part(&self, a: usize, member: u32, handled: &mut [bool]) {
+        let mark = |action: usize, handled: &mut [bool]| {
+            for k in self.add_start[action]..self.add_start[action + 1] {
+                handled[self.add[k as usize] as usize] = true;
+            }
+        };
+        if self.pair[a] != NONE {
+            mark(self.pair[a] as usize, handled);
+            return;
+        }
+        if member == NONE {
+            return;
+        }
+        let m = member as usize;
+        for &d in &self.deleters[self.deleters_start[m] as usize..self.deleters_start[m + 1] as usize] {
+            if self.schema[d as usize] == self.schema[a] {
+                mark(d as usize, handled);
+            }
+        }
+    }
+
+    /// For an action that reads an exclusion node, the tuple the relaxed plan takes for it:
+    /// of the tuples not excluded, the cheapest, lowest node first (the one that settled
+    /// first, whose instantiation the whole ground action was that first reached what this
+    /// one adds); `NONE` for other actions.
+    fn chosen_member(&self, a: usize) -> u32 {
+        let e = self.exclusion_of[a];
+        if e == NONE {
+            return NONE;
+        }
+        let [start, end, skip_start, skip_end] = self.choices[e as usize];
+        let candidates = self.members[start as usize..skip_start as usize]
+            .iter()
+            .chain(&self.members[skip_end as usize..end as usize]);
+        candidates
+            .copied()
+            .filter(|&m| self.done[m as usize])
+            .min_by_key(|&m| (self.cost[m as usize], m))
+            .unwrap_or(NONE)
     }
 }
 

@@ -173,7 +173,8 @@ impl Landmarks {
             }
         }
         goal_nodes.sort_unstable();
-        all.retain(|&n| !initially[n as usize] || goal_nodes.binary_search(&n).is_ok());
+        // Auxiliary nodes stand for choices among facts, not facts: none is a landmark.
+        all.retain(|&n| n < ground.aux_base && (!initially[n as usize] || goal_nodes.binary_search(&n).is_ok()));
         let index = |n: u32| all.binary_search(&n).ok().map(|i| i as u32);
         let negation_of: rustc_hash::FxHashMap<u32, u32> =
             ground.negations.iter().map(|&(fact, negation)| (negation, fact)).collect();

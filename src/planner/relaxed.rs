@@ -26,11 +26,12 @@ use hashbrown::HashTable;
 use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
 
 use super::BudgetKind;
-use super::ground::{GroundTask, RecordedAction};
+use super::ground::{Auxiliary, GroundTask, RecordedAction, Source};
 use super::landmarks::{Accepted, Landmarks};
 use super::successors::{ConditionError, OnKbCache, instantiate, match_pattern, substitute, undo};
 use crate::engine::Machine;
-use crate::ir::hir::{EffectKind, Snap, Term};
+use crate::intern::sym;
+use crate::ir::hir::{EffectKind, Goal, Snap, Term};
 use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Schema, State, Task};
 use crate::ir::unify::unifiable;
 
@@ -69,6 +70,52 @@ struct Rule {
     invalid: Box<[LiteralPattern]>,
     /// Its `del` effects on predicates some Invalid literal reads.
     dels: Box<[LiteralPattern]>,
+    /// A body literal the ground task reads through an exclusion node (see [`Exclusion`]).
+    exclusion: Option<Exclusion>,
+}
+
+/// A body literal whose variables, beyond those it shares, matter only to one disequality.
+///
+/// In the standard blocks world a move starts from where the block stands and goes anywhere
+/// else: `gripped(A, B), ontable(B, X1, Y1)` with `(X1 \== X2 ; Y1 \== Y2)`, where the source
+/// cell `(X1, Y1)` occurs nowhere else that the relaxation reads (the head `moving(A, B, X1,
+/// Y1, X2, Y2)` is only read at `(B, X2, Y2)`). Grounding every pair of source and destination
+/// makes blocks x cells x cells actions, nearly all of a large task. The ground task instead
+/// instantiates the rule without the source: its precondition is the node "some tuple of the
+/// literal in this group (the same block), whose excluded variables differ from these values
+/// (the destination)", whose h_add cost is the cheapest such tuple's, exactly the minimum the
+/// lifted relaxation takes over the instantiations it joins (see
+/// [`Relaxation::exclusion_nodes`]). The rule's deletions that read the excluded variables
+/// (the block leaving its source cell, which Invalid conditions wait for) go to a second
+/// ground action, instantiated over the body's variables without the destination, which
+/// costs what the cheapest instantiation that deletes the same facts costs. So every node's
+/// h_add is what it was. The relaxed plan also stays the one over whole instantiations: it
+/// takes for an exclusion node the tuple the first whole instantiation to reach it read, and
+/// a part it chooses handles what the other part of that instantiation adds
+/// (`GroundTask::relaxed_plan`). On 50 blocks the ground task shrinks from 97,142 actions to
+/// about 12,000 (plus 13,000 zero-cost links), with the same plans.
+///
+/// The disequality must be one OnKB condition, `E \== O` or a disjunction of them, each pair
+/// with one excluded variable `E` and one other variable `O` that is bound when the condition
+/// runs (it occurs in the body or an earlier OnKB condition, and in no later one): then the
+/// condition says "the tuple of the `E`s differs from the tuple of the `O`s".
+#[derive(Debug)]
+struct Exclusion {
+    /// The body literal (an index into the rule's body).
+    literal: u32,
+    /// The positions of its view not holding excluded variables: tuples that agree there
+    /// form one group.
+    group: Box<[u32]>,
+    /// Per pair of the disequality: the view position of the excluded variable and the
+    /// variable it must differ from.
+    pairs: Box<[(u32, u32)]>,
+    /// The excluded variables: unbound in the action that adds.
+    vars: Box<[u32]>,
+    /// The rule's deletions (indices into `Rule::dels`) that read excluded variables.
+    dels: Box<[u32]>,
+    /// The variables the deleting action is instantiated over: those of the body, of those
+    /// deletions and of the Invalid literals.
+    delete_vars: Box<[u32]>,
 }
 
 /// Why a tuple has its cost.
@@ -257,6 +304,24 @@ impl From<ConditionError> for Stop {
 
 /// An Invalid literal instance: rule, literal, and the values of the literal's variables.
 type InstanceKey = (u32, u32, Box<[Option<ConstId>]>);
+/// An exclusion node: its group's number, and the values to differ from.
+type ExclusionKey = (u32, Option<Box<[ConstId]>>);
+/// A group of tuples exclusion nodes choose from: the rule, and the values of the excluded
+/// literal's other positions.
+type GroupKey = (u32, Box<[ConstId]>);
+
+/// Which part of a rule instantiation a ground action stands for (see [`Exclusion`]).
+#[derive(Clone, Copy)]
+enum Part {
+    /// All of it.
+    Whole,
+    /// Its heads and the deletions that do not read excluded variables; the excluded literal
+    /// is read through exclusion node `node` (a number of the recorder's).
+    Adds { node: u32 },
+    /// The deletions that read excluded variables; `pair` is the action recorded as the
+    /// adding part of the same instantiation.
+    Deletes { pair: u32 },
+}
 
 /// The rule instantiations of a full exploration, recorded to build a [`GroundTask`].
 struct Recorder {
@@ -268,6 +333,11 @@ struct Recorder {
     /// with only the literal's own kept) to their number.
     instances: FxHashMap<InstanceKey, u32>,
     instance_list: Vec<InstanceKey>,
+    /// Distinct groups and exclusion nodes (see [`Exclusion`]), to their numbers.
+    groups: FxHashMap<GroupKey, u32>,
+    group_list: Vec<GroupKey>,
+    exclusions: FxHashMap<ExclusionKey, u32>,
+    exclusion_list: Vec<ExclusionKey>,
     /// The most instantiations, and the most bytes (an estimate), to record before giving
     /// up on grounding.
     limit: usize,
@@ -449,6 +519,7 @@ impl Relaxation {
                 orders,
                 invalid: schema.invalid.clone(),
                 dels: dels.into_boxed_slice(),
+                exclusion: None,
             });
         }
         // A view of whole facts for each negated predicate: the facts a negative condition
@@ -467,6 +538,12 @@ impl Relaxation {
             let args = keep.iter().map(|&i| literal.args[i as usize].clone()).collect();
             relaxation.goal.push(BodyLiteral { view, args });
             relaxation.goal_index.push(g);
+        }
+        if project {
+            for (r, schema) in task.schemas.iter().enumerate() {
+                let exclusion = find_exclusion(&relaxation, schema, &relaxation.rules[r]);
+                relaxation.rules[r].exclusion = exclusion;
+            }
         }
         relaxation.triggers = vec![Vec::new(); relaxation.views.len()];
         for (r, rule) in relaxation.rules.iter().enumerate() {
@@ -493,6 +570,19 @@ impl Relaxation {
     }
 
     /// The goal literals (indices into `Task::goal`) the last exploration did not reach.
+    /// Grounds every rule instantiation as one action, with no exclusion nodes (see
+    /// [`Exclusion`]): the reference the tests hold the smaller ground task to.
+    pub fn ground_every_instantiation(&mut self) {
+        for rule in &mut self.rules {
+            rule.exclusion = None;
+        }
+    }
+
+    /// The number of rules the ground task reads through exclusion nodes.
+    pub fn exclusions(&self) -> usize {
+        self.rules.iter().filter(|r| r.exclusion.is_some()).count()
+    }
+
     pub fn unreached_goals(&self) -> &[usize] {
         &self.unreached
     }
@@ -655,6 +745,10 @@ impl Relaxation {
             actions: Vec::new(),
             instances: FxHashMap::default(),
             instance_list: Vec::new(),
+            groups: FxHashMap::default(),
+            group_list: Vec::new(),
+            exclusions: FxHashMap::default(),
+            exclusion_list: Vec::new(),
             limit,
             max_bytes: self.limits.max_bytes / 2,
             bytes: 0,
@@ -719,11 +813,110 @@ impl Relaxation {
             })
             .collect();
         let negative = if negative { Some((self.negated_views.as_slice(), candidates.as_slice())) } else { None };
-        let mut ground = GroundTask::new(&sizes, recorder.actions, &schemas, &goals, negative);
+        let auxiliary = self.exclusion_nodes(&recorder.group_list, &recorder.exclusion_list);
+        let mut ground = GroundTask::new(&sizes, recorder.actions, &schemas, &goals, negative, auxiliary);
         let start = self.state_tuples(task, &init);
         self.landmarks = Some(Landmarks::compute(&mut ground, &start));
         self.ground = Some(ground);
         Ok(true)
+    }
+
+    /// The ground task's exclusion nodes (see [`Exclusion`]), one per number of `list`.
+    ///
+    /// A group's tuples are sorted by the values of their excluded variables, into runs of
+    /// equal values. Prefix nodes `P_j` (the cheapest tuple of runs `0..=j`) and suffix nodes
+    /// `S_j` (of runs `j..`) are each achieved, at no cost, by the tuples of their run and by
+    /// the previous prefix or the next suffix. The node excluding the values of run `j` is
+    /// achieved by `P_{j-1}` and `S_{j+1}`; one excluding values no tuple has (or nothing) is
+    /// the last prefix. So each node costs the cheapest tuple of the group not excluded, as an
+    /// action reading it directly would, in a number of nodes and links linear in the group.
+    fn exclusion_nodes(&self, groups: &[GroupKey], list: &[ExclusionKey]) -> Auxiliary {
+        let mut auxiliary = Auxiliary {
+            exclusion_node: vec![0; list.len()],
+            choices: vec![[0; 4]; list.len()],
+            ..Auxiliary::default()
+        };
+        let group_ids: FxHashMap<(u32, &[ConstId]), u32> =
+            groups.iter().enumerate().map(|(id, (rule, values))| ((*rule, &values[..]), id as u32)).collect();
+        let mut exclusions_of: Vec<Vec<usize>> = vec![Vec::new(); groups.len()];
+        for (i, (group, _)) in list.iter().enumerate() {
+            exclusions_of[*group as usize].push(i);
+        }
+        // Each group's tuples, with the values of their excluded variables.
+        let mut members: Vec<Vec<(Box<[ConstId]>, u32)>> = vec![Vec::new(); groups.len()];
+        let mut rules: Vec<u32> = groups.iter().map(|(rule, _)| *rule).collect();
+        rules.sort_unstable();
+        rules.dedup();
+        let mut values = Vec::new();
+        for rule in rules {
+            let exclusion = self.rules[rule as usize].exclusion.as_ref().expect("recorded by a rule with one");
+            let view = self.rules[rule as usize].body[exclusion.literal as usize].view;
+            let table = &self.tables[view as usize];
+            for t in 0..table.cost.len() as u32 {
+                let tuple = table.tuple(t);
+                values.clear();
+                values.extend(exclusion.group.iter().map(|&i| tuple[i as usize]));
+                if let Some(&id) = group_ids.get(&(rule, values.as_slice())) {
+                    let key = exclusion.pairs.iter().map(|&(i, _)| tuple[i as usize]).collect();
+                    members[id as usize].push((key, t));
+                }
+            }
+        }
+        let groups = groups.iter().map(|(rule, _)| *rule).zip(exclusions_of);
+        for ((rule, exclusions), mut members) in groups.zip(members) {
+            let exclusion = self.rules[rule as usize].exclusion.as_ref().expect("recorded by a rule with one");
+            let view = self.rules[rule as usize].body[exclusion.literal as usize].view;
+            members.sort_unstable();
+            let mut runs: Vec<(&[ConstId], std::ops::Range<usize>)> = Vec::new();
+            for (m, (key, _)) in members.iter().enumerate() {
+                match runs.last_mut() {
+                    Some((last, range)) if *last == &key[..] => range.end = m + 1,
+                    _ => runs.push((key, m..m + 1)),
+                }
+            }
+            let k = runs.len() as u32;
+            let first = auxiliary.members.len() as u32;
+            auxiliary.members.extend(members.iter().map(|&(_, t)| (view, t)));
+            let prefix = auxiliary.count;
+            let suffix = prefix + k;
+            auxiliary.count += 2 * k;
+            for (j, (_, range)) in runs.iter().enumerate() {
+                let j = j as u32;
+                for (_, t) in &members[range.clone()] {
+                    auxiliary.links.push((Source::Tuple(view, *t), prefix + j));
+                    auxiliary.links.push((Source::Tuple(view, *t), suffix + j));
+                }
+                if j > 0 {
+                    auxiliary.links.push((Source::Aux(prefix + j - 1), prefix + j));
+                }
+                if j + 1 < k {
+                    auxiliary.links.push((Source::Aux(suffix + j + 1), suffix + j));
+                }
+            }
+            for i in exclusions {
+                let run = list[i].1.as_ref().and_then(|key| runs.binary_search_by(|(r, _)| (*r).cmp(key)).ok());
+                let skip = run.map_or(0..0, |j| runs[j].1.clone());
+                let end = first + members.len() as u32;
+                auxiliary.choices[i] = [first, end, first + skip.start as u32, first + skip.end as u32];
+                auxiliary.exclusion_node[i] = match run {
+                    Some(j) => {
+                        let j = j as u32;
+                        let node = auxiliary.count;
+                        auxiliary.count += 1;
+                        if j > 0 {
+                            auxiliary.links.push((Source::Aux(prefix + j - 1), node));
+                        }
+                        if j + 1 < k {
+                            auxiliary.links.push((Source::Aux(suffix + j + 1), node));
+                        }
+                        node
+                    }
+                    // Every tuple of the group qualifies (it has one: an instantiation read it).
+                    None => prefix + k - 1,
+                };
+            }
+        }
+        auxiliary
     }
 
     /// Bounds every exploration by the search's budget: one stops with [`Stop::Budget`] at
@@ -1118,21 +1311,79 @@ impl Relaxation {
         Ok(())
     }
 
-    /// Records one rule instantiation that passed its filters, for grounding.
+    /// Records one rule instantiation that passed its filters, for grounding: as one ground
+    /// action or, for a rule with an [`Exclusion`], as the two parts it describes.
     fn record(&mut self, task: &mut Task, rule: usize, bindings: &[Option<ConstId>]) {
-        let Some(recorder) = self.recorder.as_mut() else { return };
-        let hash = self.hasher.hash_one((rule as u32, bindings));
-        let actions = &recorder.actions;
-        let same = |&a: &u32| actions[a as usize].rule == rule as u32 && *actions[a as usize].bindings == *bindings;
-        if recorder.overflowed || recorder.seen.find(hash, same).is_some() {
+        let Some(exclusion) = &self.rules[rule].exclusion else {
+            self.record_part(task, rule, bindings, bindings, Part::Whole);
             return;
+        };
+        let keep_unless = |vars: &[u32], keep: bool| -> Box<[Option<ConstId>]> {
+            (0..bindings.len() as u32)
+                .map(|v| if vars.contains(&v) == keep { bindings[v as usize] } else { None })
+                .collect()
+        };
+        let adds = keep_unless(&exclusion.vars, false);
+        let deletes = (!exclusion.dels.is_empty()).then(|| keep_unless(&exclusion.delete_vars, true));
+        // The exclusion node: the group's values and the values the excluded ones must differ
+        // from (none if one of those is unbound: then `E \== O` holds for every tuple).
+        let literal = &self.rules[rule].body[exclusion.literal as usize];
+        let group: Option<Box<[ConstId]>> = exclusion
+            .group
+            .iter()
+            .map(|&i| instantiate(&literal.args[i as usize], &mut task.consts, bindings))
+            .collect();
+        let Some(group) = group else { return };
+        let excluded: Option<Box<[ConstId]>> = exclusion.pairs.iter().map(|&(_, o)| bindings[o as usize]).collect();
+        let Some(recorder) = self.recorder.as_mut() else { return };
+        let next = recorder.group_list.len() as u32;
+        let group = *recorder.groups.entry((rule as u32, group.clone())).or_insert_with(|| {
+            recorder.group_list.push((rule as u32, group));
+            next
+        });
+        let key = (group, excluded);
+        let next = recorder.exclusion_list.len() as u32;
+        let node = *recorder.exclusions.entry(key.clone()).or_insert_with(|| {
+            recorder.exclusion_list.push(key);
+            next
+        });
+        let adding = self.record_part(task, rule, &adds, bindings, Part::Adds { node });
+        if let (Some(deletes), Some(adding)) = (deletes, adding) {
+            self.record_part(task, rule, &deletes, bindings, Part::Deletes { pair: adding });
+        }
+    }
+
+    /// Records one ground action of `rule`, known by its rule and `key` (its bindings, some
+    /// perhaps left unbound), its tuples taken from the instantiation `bindings`; returns its
+    /// number, new or not (`None` once grounding has given up).
+    fn record_part(
+        &mut self,
+        task: &mut Task,
+        rule: usize,
+        key: &[Option<ConstId>],
+        bindings: &[Option<ConstId>],
+        part: Part,
+    ) -> Option<u32> {
+        let recorder = self.recorder.as_mut()?;
+        let hash = self.hasher.hash_one((rule as u32, key));
+        let actions = &recorder.actions;
+        let same = |&a: &u32| actions[a as usize].rule == rule as u32 && actions[a as usize].key() == key;
+        if recorder.overflowed {
+            return None;
+        }
+        if let Some(&found) = recorder.seen.find(hash, same) {
+            return Some(found);
         }
         if recorder.actions.len() >= recorder.limit || recorder.bytes > recorder.max_bytes {
             recorder.overflowed = true;
-            return;
+            return None;
         }
+        let exclusion = self.rules[rule].exclusion.as_ref();
         let mut pre = Vec::new();
-        for literal in self.rules[rule].body.iter() {
+        for (l, literal) in self.rules[rule].body.iter().enumerate() {
+            if matches!(part, Part::Adds { .. }) && exclusion.is_some_and(|e| e.literal as usize == l) {
+                continue;
+            }
             let tuple: Option<Vec<ConstId>> =
                 literal.args.iter().map(|a| instantiate(a, &mut task.consts, bindings)).collect();
             if let Some(t) = tuple.and_then(|tuple| self.tables[literal.view as usize].find(&self.hasher, &tuple)) {
@@ -1142,7 +1393,8 @@ impl Relaxation {
         let mut add = Vec::new();
         let mut projected = Vec::new();
         let mut full = Vec::new();
-        for h in 0..self.rules[rule].heads.len() {
+        let heads = if matches!(part, Part::Deletes { .. }) { 0 } else { self.rules[rule].heads.len() };
+        for h in 0..heads {
             let head = self.rules[rule].heads[h].clone();
             if !self.literal_values(&head, task, bindings, &mut full) {
                 continue;
@@ -1157,6 +1409,15 @@ impl Relaxation {
         }
         let mut deletes = Vec::new();
         for d in 0..self.rules[rule].dels.len() {
+            let reads_excluded = exclusion.is_some_and(|e| e.dels.contains(&(d as u32)));
+            let wanted = match part {
+                Part::Whole => true,
+                Part::Adds { .. } => !reads_excluded,
+                Part::Deletes { .. } => reads_excluded,
+            };
+            if !wanted {
+                continue;
+            }
             let del = self.rules[rule].dels[d].clone();
             let Some(view) = self.negated_view(del.pred) else { continue };
             if !self.literal_values(&del, task, bindings, &mut full) {
@@ -1187,7 +1448,7 @@ impl Relaxation {
         // length), its bindings, its slot in `seen` (which may have grown to twice its size),
         // and five buffers, each with the allocator's overhead.
         const ALLOC: usize = 16;
-        let binding_bytes = std::mem::size_of_val(bindings) + ALLOC;
+        let binding_bytes = std::mem::size_of_val(key) + ALLOC;
         recorder.bytes += 2 * std::mem::size_of::<RecordedAction>()
             + binding_bytes
             + 2 * (std::mem::size_of::<u32>() + 1)
@@ -1197,17 +1458,28 @@ impl Relaxation {
         let index = recorder.actions.len() as u32;
         recorder.actions.push(RecordedAction {
             rule: rule as u32,
-            bindings: bindings.into(),
+            // The part that deletes is named as its first instantiation, destination and
+            // all: a helpful action then is that move, as the ground action of the whole
+            // instantiation that first reached the deletion was.
+            bindings: if matches!(part, Part::Deletes { .. }) { bindings.into() } else { key.into() },
+            key: matches!(part, Part::Deletes { .. }).then(|| key.into()),
             pre,
+            exclusion: match part {
+                Part::Adds { node } => Some(node),
+                _ => None,
+            },
+            pair: match part {
+                Part::Deletes { pair } => Some(pair),
+                _ => None,
+            },
             add,
             invalid,
             deletes,
         });
         let hasher = self.hasher;
         let Recorder { seen, actions, .. } = recorder;
-        seen.insert_unique(hash, index, |&a| {
-            hasher.hash_one((actions[a as usize].rule, &*actions[a as usize].bindings))
-        });
+        seen.insert_unique(hash, index, |&a| hasher.hash_one((actions[a as usize].rule, actions[a as usize].key())));
+        Some(index)
     }
 
     /// FF's relaxed plan from the goal tuples back through best supporters.
@@ -1274,6 +1546,131 @@ impl Relaxation {
         }
         estimate.h_ff = Some(actions.len() as u32);
     }
+}
+
+/// The pairs `(A, B)` of a disequality condition: `A \== B`, or a disjunction of such
+/// comparisons between variables.
+fn disequality_pairs(goal: &Goal) -> Option<Vec<(u32, u32)>> {
+    let pair = |goal: &Goal| match goal {
+        Goal::Call(literal) => match &literal.term {
+            Term::Compound(name, args) if *name == sym::NOT_IDENTICAL && args.len() == 2 => {
+                match (&args[0], &args[1]) {
+                    (Term::Var(a), Term::Var(b)) if a != b => Some((a.0, b.0)),
+                    _ => None,
+                }
+            }
+            _ => None,
+        },
+        _ => None,
+    };
+    match goal {
+        Goal::Or(branches) => {
+            branches.iter().map(|branch| if branch.conditions.is_empty() { pair(&branch.goal) } else { None }).collect()
+        }
+        goal => pair(goal).map(|p| vec![p]),
+    }
+}
+
+/// The body literal of `rule` (built from `schema`, in `relaxation` whose views are complete)
+/// the ground task can read through an exclusion node, if any: see [`Exclusion`].
+fn find_exclusion(relaxation: &Relaxation, schema: &Schema, rule: &Rule) -> Option<Exclusion> {
+    let (valid, _) = relaxed_literals(schema);
+    let mut in_body = Vec::new();
+    for literal in &valid {
+        literal.args.iter().for_each(|a| var_occurrences(a, &mut in_body));
+    }
+    let goal_vars: Vec<Vec<u32>> = schema
+        .on_kb
+        .iter()
+        .map(|goal| {
+            let mut vars = Vec::new();
+            goal.for_each_call(&mut |l| term_vars(&l.term, &mut vars));
+            vars
+        })
+        .collect();
+    // Variables read anywhere but the body, OnKB conditions and deletions: heads at the
+    // positions some view reads, Invalid literals, InvalidAtEnd terms.
+    let mut read = Vec::new();
+    for head in rule.heads.iter() {
+        let Some(views) = relaxation.views_of_pred.get(&head.pred) else { continue };
+        for (i, a) in head.args.iter().enumerate() {
+            if views.iter().any(|&v| relaxation.views[v as usize].keep.contains(&(i as u32))) {
+                var_occurrences(a, &mut read);
+            }
+        }
+    }
+    let mut invalid_vars = Vec::new();
+    for literal in schema.invalid.iter() {
+        literal.args.iter().for_each(|a| var_occurrences(a, &mut invalid_vars));
+    }
+    read.extend_from_slice(&invalid_vars);
+    for term in schema.invalid_at_end.iter() {
+        term_vars(term, &mut read);
+    }
+    for (l, literal) in rule.body.iter().enumerate() {
+        // Candidates: variables at kept positions of this literal that occur once in the body.
+        let candidates: Vec<(u32, u32)> = literal
+            .args
+            .iter()
+            .enumerate()
+            .filter_map(|(i, a)| match a {
+                Pattern::Var(v) if in_body.iter().filter(|&&w| w == *v).count() == 1 && !read.contains(v) => {
+                    Some((i as u32, *v))
+                }
+                _ => None,
+            })
+            .collect();
+        let is_candidate = |v: u32| candidates.iter().any(|&(_, c)| c == v);
+        let mentions: Vec<usize> =
+            (0..goal_vars.len()).filter(|&g| goal_vars[g].iter().any(|&v| is_candidate(v))).collect();
+        let [d] = mentions[..] else { continue };
+        let Some(pairs) = disequality_pairs(&schema.on_kb[d]) else { continue };
+        let oriented: Option<Vec<(u32, u32)>> = pairs
+            .iter()
+            .map(|&(a, b)| match (is_candidate(a), is_candidate(b)) {
+                (true, false) => Some((a, b)),
+                (false, true) => Some((b, a)),
+                _ => None,
+            })
+            .collect();
+        let Some(oriented) = oriented else { continue };
+        // Each other variable is bound when the condition runs, and stays as it was then.
+        let bound = oriented.iter().all(|&(_, o)| {
+            (in_body.contains(&o) || goal_vars[..d].iter().any(|vars| vars.contains(&o)))
+                && !goal_vars[d + 1..].iter().any(|vars| vars.contains(&o))
+        });
+        if !bound {
+            continue;
+        }
+        let mut vars: Vec<u32> = oriented.iter().map(|&(e, _)| e).collect();
+        vars.sort_unstable();
+        vars.dedup();
+        let position = |v: u32| candidates.iter().find(|&&(_, c)| c == v).map(|&(i, _)| i).expect("a candidate");
+        let excluded: Vec<u32> = vars.iter().map(|&v| position(v)).collect();
+        let group = (0..literal.args.len() as u32).filter(|i| !excluded.contains(i)).collect();
+        let mut dels = Vec::new();
+        let mut delete_vars = in_body.clone();
+        for (k, del) in rule.dels.iter().enumerate() {
+            let mut own = Vec::new();
+            del.args.iter().for_each(|a| var_occurrences(a, &mut own));
+            if own.iter().any(|v| vars.contains(v)) {
+                dels.push(k as u32);
+                delete_vars.extend(own);
+            }
+        }
+        delete_vars.extend_from_slice(&invalid_vars);
+        delete_vars.sort_unstable();
+        delete_vars.dedup();
+        return Some(Exclusion {
+            literal: l as u32,
+            group,
+            pairs: oriented.iter().map(|&(e, o)| (position(e), o)).collect(),
+            vars: vars.into_boxed_slice(),
+            dels: dels.into_boxed_slice(),
+            delete_vars: delete_vars.into_boxed_slice(),
+        });
+    }
+    None
 }
 
 /// A placeholder value at a dropped position; no view reads it.
