@@ -140,17 +140,26 @@ pub(super) struct GroundTask {
 
 /// A priority queue of facts by cost for the Dijkstra-like evaluation, where every cost pushed
 /// is at least the last one popped (a fact's cost is a sum of costs already settled plus a
-/// weight): one bucket per cost, popped in order, each a small heap so that facts of one cost
-/// come out lowest id first, exactly as from one binary heap of `(cost, fact)`, but without
-/// sifting through every fact of every cost (which was most of an evaluation on wide grids).
-/// Costs from [`BucketQueue::BUCKETS`] on go to one binary heap.
+/// weight): one bucket per cost, popped in order, so that facts of one cost come out lowest id
+/// first, exactly as from one binary heap of `(cost, fact)`, but without sifting through every
+/// fact of every cost. A bucket is a plain vector until its cost comes up; it is then sorted
+/// once and read in order, and what is pushed at that cost meanwhile (through zero-cost
+/// actions) goes to a small heap beside it. (Bucket heaps sifting one fact at a time were 40%
+/// of an evaluation on 50 blocks.) Costs from [`BucketQueue::BUCKETS`] on go to one binary
+/// heap.
 #[derive(Debug, Default)]
 struct BucketQueue {
-    buckets: Vec<BinaryHeap<Reverse<u32>>>,
+    buckets: Vec<Vec<u32>>,
     /// The lowest bucket that may be non-empty.
     current: usize,
     /// One past the highest bucket used since the last clear.
     used: usize,
+    /// While bucket `current` is being popped: its facts, sorted, and how many were popped.
+    sorted: Vec<u32>,
+    cursor: usize,
+    active: bool,
+    /// Facts pushed at cost `current` while it is being popped.
+    late: BinaryHeap<Reverse<u32>>,
     overflow: BinaryHeap<Reverse<(u32, u32)>>,
 }
 
@@ -164,21 +173,49 @@ impl BucketQueue {
             return;
         }
         debug_assert!(c >= self.current, "costs pushed never fall below the last popped");
-        if c >= self.buckets.len() {
-            self.buckets.resize_with(c + 1, BinaryHeap::new);
+        if self.active && c == self.current {
+            self.late.push(Reverse(fact));
+            return;
         }
-        self.buckets[c].push(Reverse(fact));
+        if c >= self.buckets.len() {
+            self.buckets.resize_with(c + 1, Vec::new);
+        }
+        self.buckets[c].push(fact);
         self.used = self.used.max(c + 1);
     }
 
     fn pop(&mut self) -> Option<(u32, u32)> {
-        while self.current < self.used {
-            if let Some(Reverse(fact)) = self.buckets[self.current].pop() {
-                return Some((self.current as u32, fact));
+        loop {
+            if self.active {
+                let next = self.sorted.get(self.cursor).copied();
+                let late = self.late.peek().map(|&Reverse(f)| f);
+                let fact = match (next, late) {
+                    (Some(n), Some(l)) if l < n => self.late.pop().map(|Reverse(f)| f),
+                    (Some(n), _) => {
+                        self.cursor += 1;
+                        Some(n)
+                    }
+                    (None, Some(_)) => self.late.pop().map(|Reverse(f)| f),
+                    (None, None) => None,
+                };
+                if let Some(fact) = fact {
+                    return Some((self.current as u32, fact));
+                }
+                self.active = false;
+                self.current += 1;
             }
-            self.current += 1;
+            while self.current < self.used && self.buckets[self.current].is_empty() {
+                self.current += 1;
+            }
+            if self.current >= self.used {
+                return self.overflow.pop().map(|Reverse(entry)| entry);
+            }
+            std::mem::swap(&mut self.sorted, &mut self.buckets[self.current]);
+            self.buckets[self.current].clear();
+            self.sorted.sort_unstable();
+            self.cursor = 0;
+            self.active = true;
         }
-        self.overflow.pop().map(|Reverse(entry)| entry)
     }
 
     fn clear(&mut self) {
@@ -187,6 +224,10 @@ impl BucketQueue {
         }
         self.current = 0;
         self.used = 0;
+        self.sorted.clear();
+        self.cursor = 0;
+        self.active = false;
+        self.late.clear();
         self.overflow.clear();
     }
 }
