@@ -144,8 +144,8 @@ pub(super) struct GroundTask {
 /// first, exactly as from one binary heap of `(cost, fact)`, but without sifting through every
 /// fact of every cost. A bucket is a plain vector until its cost comes up; it is then sorted
 /// once and read in order, and what is pushed at that cost meanwhile (through zero-cost
-/// actions) goes to a small heap beside it. (Bucket heaps sifting one fact at a time were 40%
-/// of an evaluation on 50 blocks.) Costs from [`BucketQueue::BUCKETS`] on go to one binary
+/// actions) goes to a small heap beside it. (On build_b50_a8, perf put about a third of an
+/// evaluation's samples in the bucket heaps' sifting.) Costs from [`BucketQueue::BUCKETS`] on go to one binary
 /// heap.
 #[derive(Debug, Default)]
 struct BucketQueue {
@@ -298,7 +298,7 @@ impl GroundTask {
             deleters_start: Vec::new(),
             deleters: Vec::new(),
             exclusion_of: Vec::with_capacity(actions.len()),
-            choices: auxiliary.choices.clone(),
+            choices: Vec::new(),
             members: auxiliary.members.iter().map(|&p| id(p)).collect(),
             pre_start: vec![0],
             pre: Vec::new(),
@@ -326,11 +326,21 @@ impl GroundTask {
             queue: BucketQueue::default(),
             unreached: Vec::new(),
         };
-        let push = |task: &mut GroundTask, schema: u32, weight: u32, bindings, mut pre: Vec<u32>, mut add: Vec<u32>| {
+        // An action: its schema, weight and bindings; its pair and exclusion number (`NONE`
+        // for actions not split at an exclusion); its preconditions and effects.
+        type Parts = (u32, u32);
+        let push = |task: &mut GroundTask,
+                    (schema, weight): (u32, u32),
+                    bindings,
+                    (pair, exclusion): Parts,
+                    mut pre: Vec<u32>,
+                    mut add: Vec<u32>| {
             let a = task.schema.len() as u32;
             task.schema.push(schema);
             task.weight.push(weight);
             task.bindings.push(bindings);
+            task.pair.push(pair);
+            task.exclusion_of.push(exclusion);
             pre.sort_unstable();
             pre.dedup();
             if pre.is_empty() {
@@ -351,18 +361,15 @@ impl GroundTask {
                 pre.extend(action.invalid.iter().map(|&i| instance_base + i));
                 add.extend(action.deletes.iter().map(|&p| negation(p)));
             }
-            push(&mut task, schemas[action.rule as usize], 1, action.bindings, pre, add);
-            task.pair.push(action.pair.unwrap_or(NONE));
-            task.exclusion_of.push(action.exclusion.unwrap_or(NONE));
+            let parts = (action.pair.unwrap_or(NONE), action.exclusion.unwrap_or(NONE));
+            push(&mut task, (schemas[action.rule as usize], 1), action.bindings, parts, pre, add);
         }
         // Each Invalid literal instance holds once every fact it forbids is absent or deleted.
         if let Some((_, candidates)) = negative {
             for (i, forbidden) in candidates.iter().enumerate() {
                 task.instance_actions.push(task.schema.len() as u32);
                 let pre = forbidden.iter().map(|&p| negation(p)).collect();
-                push(&mut task, u32::MAX, 0, Box::new([]), pre, vec![instance_base + i as u32]);
-                task.pair.push(NONE);
-                task.exclusion_of.push(NONE);
+                push(&mut task, (u32::MAX, 0), Box::new([]), (NONE, NONE), pre, vec![instance_base + i as u32]);
             }
         }
         for &(source, node) in &auxiliary.links {
@@ -370,10 +377,9 @@ impl GroundTask {
                 Source::Tuple(view, t) => id((view, t)),
                 Source::Aux(a) => aux_base + a,
             };
-            push(&mut task, u32::MAX, 0, Box::new([]), vec![from], vec![aux_base + node]);
-            task.pair.push(NONE);
-            task.exclusion_of.push(NONE);
+            push(&mut task, (u32::MAX, 0), Box::new([]), (NONE, NONE), vec![from], vec![aux_base + node]);
         }
+        task.choices = auxiliary.choices;
         let count = task.schema.len();
         let deleting: Vec<(u32, u32)> = (0..count)
             .filter(|&a| task.pair[a] != NONE)
@@ -565,16 +571,14 @@ impl GroundTask {
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();
     }
-}
 
-impl GroundTask {
     /// For a part of an instantiation split at an exclusion, chosen for the relaxed plan:
     /// marks what the other part of that instantiation adds as handled, as choosing the whole
     /// instantiation did before the split (so the move that takes a block where the plan
     /// wants it also empties the cell it leaves, and counts once). For the deleting part, the
     /// instantiation is the first one recorded (the one the whole action that first reached
-    /// the deletion stood for); for the adding part, the one reading the tuple its exclusion
-    /// node was reached through.
+    /// the deletion stood for); for the adding part, the one reading `member`, the tuple
+    /// [`GroundTask::chosen_member`] took for its exclusion node.
     fn handle_other_part(&self, a: usize, member: u32, handled: &mut [bool]) {
         let mark = |action: usize, handled: &mut [bool]| {
             for k in self.add_start[action]..self.add_start[action + 1] {

@@ -92,8 +92,9 @@ struct Rule {
 /// h_add is what it was. The relaxed plan also stays the one over whole instantiations: it
 /// takes for an exclusion node the tuple the first whole instantiation to reach it read, and
 /// a part it chooses handles what the other part of that instantiation adds
-/// (`GroundTask::relaxed_plan`). On 50 blocks the ground task shrinks from 97,142 actions to
-/// about 12,000 (plus 13,000 zero-cost links), with the same plans.
+/// (`GroundTask::relaxed_plan`). On reverse_b50_a8 the ground task goes from 97,142 actions
+/// (96,860 rule instantiations) to 25,052 (12,090 parts of instantiations, the rest zero-cost
+/// links and Invalid conjunctions), with the same plans.
 ///
 /// The disequality must be one OnKB condition, `E \== O` or a disjunction of them, each pair
 /// with one excluded variable `E` and one other variable `O` that is bound when the condition
@@ -323,6 +324,29 @@ enum Part {
     Deletes { pair: u32 },
 }
 
+/// Distinct keys numbered in order of first use: the map to their numbers, and the keys by
+/// number.
+struct Numbered<K> {
+    numbers: FxHashMap<K, u32>,
+    list: Vec<K>,
+}
+
+impl<K: std::hash::Hash + Eq + Clone> Numbered<K> {
+    fn new() -> Self {
+        Numbered { numbers: FxHashMap::default(), list: Vec::new() }
+    }
+
+    /// The number of `key`, numbering it if new.
+    fn number(&mut self, key: K) -> u32 {
+        let Numbered { numbers, list } = self;
+        let next = list.len() as u32;
+        *numbers.entry(key).or_insert_with_key(|key| {
+            list.push(key.clone());
+            next
+        })
+    }
+}
+
 /// The rule instantiations of a full exploration, recorded to build a [`GroundTask`].
 struct Recorder {
     /// The instantiations recorded so far, as indices into `actions` hashed by their rule and
@@ -330,14 +354,11 @@ struct Recorder {
     seen: HashTable<u32>,
     actions: Vec<RecordedAction>,
     /// Distinct Invalid literal instances: (rule, literal, values of the rule's variables
-    /// with only the literal's own kept) to their number.
-    instances: FxHashMap<InstanceKey, u32>,
-    instance_list: Vec<InstanceKey>,
-    /// Distinct groups and exclusion nodes (see [`Exclusion`]), to their numbers.
-    groups: FxHashMap<GroupKey, u32>,
-    group_list: Vec<GroupKey>,
-    exclusions: FxHashMap<ExclusionKey, u32>,
-    exclusion_list: Vec<ExclusionKey>,
+    /// with only the literal's own kept).
+    instances: Numbered<InstanceKey>,
+    /// Distinct groups and exclusion nodes (see [`Exclusion`]).
+    groups: Numbered<GroupKey>,
+    exclusions: Numbered<ExclusionKey>,
     /// The most instantiations, and the most bytes (an estimate), to record before giving
     /// up on grounding.
     limit: usize,
@@ -569,7 +590,6 @@ impl Relaxation {
         relaxation
     }
 
-    /// The goal literals (indices into `Task::goal`) the last exploration did not reach.
     /// Grounds every rule instantiation as one action, with no exclusion nodes (see
     /// [`Exclusion`]): the reference the tests hold the smaller ground task to.
     pub fn ground_every_instantiation(&mut self) {
@@ -583,6 +603,7 @@ impl Relaxation {
         self.rules.iter().filter(|r| r.exclusion.is_some()).count()
     }
 
+    /// The goal literals (indices into `Task::goal`) the last exploration did not reach.
     pub fn unreached_goals(&self) -> &[usize] {
         &self.unreached
     }
@@ -743,12 +764,9 @@ impl Relaxation {
         self.recorder = Some(Recorder {
             seen: HashTable::new(),
             actions: Vec::new(),
-            instances: FxHashMap::default(),
-            instance_list: Vec::new(),
-            groups: FxHashMap::default(),
-            group_list: Vec::new(),
-            exclusions: FxHashMap::default(),
-            exclusion_list: Vec::new(),
+            instances: Numbered::new(),
+            groups: Numbered::new(),
+            exclusions: Numbered::new(),
             limit,
             max_bytes: self.limits.max_bytes / 2,
             bytes: 0,
@@ -789,7 +807,8 @@ impl Relaxation {
         let mut scratch = Vec::new();
         let mut trail = Vec::new();
         let candidates: Vec<Vec<(u32, u32)>> = recorder
-            .instance_list
+            .instances
+            .list
             .iter()
             .map(|(rule, literal, bindings)| {
                 let literal = &self.rules[*rule as usize].invalid[*literal as usize];
@@ -813,7 +832,7 @@ impl Relaxation {
             })
             .collect();
         let negative = if negative { Some((self.negated_views.as_slice(), candidates.as_slice())) } else { None };
-        let auxiliary = self.exclusion_nodes(&recorder.group_list, &recorder.exclusion_list);
+        let auxiliary = self.exclusion_nodes(&recorder.groups.list, &recorder.exclusions.list);
         let mut ground = GroundTask::new(&sizes, recorder.actions, &schemas, &goals, negative, auxiliary);
         let start = self.state_tuples(task, &init);
         self.landmarks = Some(Landmarks::compute(&mut ground, &start));
@@ -850,8 +869,7 @@ impl Relaxation {
         let mut values = Vec::new();
         for rule in rules {
             let exclusion = self.rules[rule as usize].exclusion.as_ref().expect("recorded by a rule with one");
-            let view = self.rules[rule as usize].body[exclusion.literal as usize].view;
-            let table = &self.tables[view as usize];
+            let table = &self.tables[self.excluded_view(rule) as usize];
             for t in 0..table.cost.len() as u32 {
                 let tuple = table.tuple(t);
                 values.clear();
@@ -864,8 +882,7 @@ impl Relaxation {
         }
         let groups = groups.iter().map(|(rule, _)| *rule).zip(exclusions_of);
         for ((rule, exclusions), mut members) in groups.zip(members) {
-            let exclusion = self.rules[rule as usize].exclusion.as_ref().expect("recorded by a rule with one");
-            let view = self.rules[rule as usize].body[exclusion.literal as usize].view;
+            let view = self.excluded_view(rule);
             members.sort_unstable();
             let mut runs: Vec<(&[ConstId], std::ops::Range<usize>)> = Vec::new();
             for (m, (key, _)) in members.iter().enumerate() {
@@ -876,6 +893,7 @@ impl Relaxation {
             }
             let k = runs.len() as u32;
             let first = auxiliary.members.len() as u32;
+            let end = first + members.len() as u32;
             auxiliary.members.extend(members.iter().map(|&(_, t)| (view, t)));
             let prefix = auxiliary.count;
             let suffix = prefix + k;
@@ -896,7 +914,6 @@ impl Relaxation {
             for i in exclusions {
                 let run = list[i].1.as_ref().and_then(|key| runs.binary_search_by(|(r, _)| (*r).cmp(key)).ok());
                 let skip = run.map_or(0..0, |j| runs[j].1.clone());
-                let end = first + members.len() as u32;
                 auxiliary.choices[i] = [first, end, first + skip.start as u32, first + skip.end as u32];
                 auxiliary.exclusion_node[i] = match run {
                     Some(j) => {
@@ -917,6 +934,13 @@ impl Relaxation {
             }
         }
         auxiliary
+    }
+
+    /// The view of the literal `rule` reads through exclusion nodes.
+    fn excluded_view(&self, rule: u32) -> u32 {
+        let rule = &self.rules[rule as usize];
+        let exclusion = rule.exclusion.as_ref().expect("recorded by a rule with one");
+        rule.body[exclusion.literal as usize].view
     }
 
     /// Bounds every exploration by the search's budget: one stops with [`Stop::Budget`] at
@@ -1336,17 +1360,8 @@ impl Relaxation {
         let Some(group) = group else { return };
         let excluded: Option<Box<[ConstId]>> = exclusion.pairs.iter().map(|&(_, o)| bindings[o as usize]).collect();
         let Some(recorder) = self.recorder.as_mut() else { return };
-        let next = recorder.group_list.len() as u32;
-        let group = *recorder.groups.entry((rule as u32, group.clone())).or_insert_with(|| {
-            recorder.group_list.push((rule as u32, group));
-            next
-        });
-        let key = (group, excluded);
-        let next = recorder.exclusion_list.len() as u32;
-        let node = *recorder.exclusions.entry(key.clone()).or_insert_with(|| {
-            recorder.exclusion_list.push(key);
-            next
-        });
+        let group = recorder.groups.number((rule as u32, group));
+        let node = recorder.exclusions.number((group, excluded));
         let adding = self.record_part(task, rule, &adds, bindings, Part::Adds { node });
         if let (Some(deletes), Some(adding)) = (deletes, adding) {
             self.record_part(task, rule, &deletes, bindings, Part::Deletes { pair: adding });
@@ -1436,13 +1451,7 @@ impl Relaxation {
             literal.args.iter().for_each(|a| var_occurrences(a, &mut own));
             let values: Box<[Option<ConstId>]> =
                 (0..bindings.len()).map(|v| if own.contains(&(v as u32)) { bindings[v] } else { None }).collect();
-            let key = (rule as u32, l as u32, values);
-            let next = recorder.instance_list.len() as u32;
-            let id = *recorder.instances.entry(key.clone()).or_insert_with(|| {
-                recorder.instance_list.push(key);
-                next
-            });
-            invalid.push(id);
+            invalid.push(recorder.instances.number((rule as u32, l as u32, values)));
         }
         // What the instantiation holds: the action (its vector may have grown to twice its
         // length), its bindings, its slot in `seen` (which may have grown to twice its size),

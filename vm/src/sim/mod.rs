@@ -376,8 +376,9 @@ impl SimHost {
 
     /// Brings the world to rest after a program stopped on a fault, so that it can be read
     /// back and planned from: every task is dropped; stalled arms are waited for; idle arms
-    /// go to their resting points; each arm still holding a block puts it down on the free
-    /// cell nearest to it; a block lying on the table between cells is carried to the free
+    /// go to their resting points; each arm still holding a block lifts it to its resting
+    /// point (out of the other arms' way), then puts it down on the free cell nearest to where
+    /// it held it; a block lying on the table between cells is carried to the free
     /// cell nearest to it by the nearest idle arm. Stopped arms do nothing. Returns a line
     /// for each thing done or that could not be done.
     pub fn recover(&mut self) -> Vec<String> {
