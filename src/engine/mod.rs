@@ -391,6 +391,8 @@ pub struct Machine<'p> {
     budget: u64,
     /// Whether a unification of the current query failed by the occurs check alone.
     occurs_failed: bool,
+    /// Scratch space for [`Machine::unify`]'s pairs still to unify.
+    unify_pending: Vec<(Cell, Cell)>,
 }
 
 impl<'p> Machine<'p> {
@@ -405,6 +407,7 @@ impl<'p> Machine<'p> {
             steps: 0,
             budget,
             occurs_failed: false,
+            unify_pending: Vec::new(),
         }
     }
 
@@ -564,7 +567,16 @@ impl<'p> Machine<'p> {
     /// `X = f(X)` fails and no term is cyclic (SWI-Prolog would make a rational tree; kbc's
     /// comparison, copying and printing need not handle one).
     pub fn unify(&mut self, a: Cell, b: Cell) -> bool {
-        let mut pending = vec![(a, b)];
+        let mut pending = std::mem::take(&mut self.unify_pending);
+        pending.clear();
+        pending.push((a, b));
+        let unified = self.unify_pairs(&mut pending);
+        self.unify_pending = pending;
+        unified
+    }
+
+    /// Unifies the pairs in `pending` (emptying it unless it fails).
+    fn unify_pairs(&mut self, pending: &mut Vec<(Cell, Cell)>) -> bool {
         while let Some((a, b)) = pending.pop() {
             let a = self.deref(a);
             let b = self.deref(b);
