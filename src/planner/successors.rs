@@ -18,7 +18,7 @@
 
 use crate::engine::{Cell, EngineError, Machine, Next};
 use crate::intern::sym;
-use crate::ir::hir::{EffectKind, Snap, Term};
+use crate::ir::hir::{EffectKind, Goal, Snap, Term};
 use crate::ir::task::{Const, ConstId, Consts, FactId, Facts, LiteralPattern, Pattern, Schema, State, Task};
 use crate::ir::unify::unifiable;
 
@@ -148,11 +148,42 @@ pub fn cell_to_const(machine: &Machine<'_>, consts: &mut Consts, cell: Cell) -> 
     Some(consts.intern(value))
 }
 
-/// The solutions of one OnKB query: for each, the values of the OnKB variables it binds.
-pub type OnKbSolutions = std::rc::Rc<[Box<[Option<ConstId>]>]>;
+/// The solutions of one OnKB query: for each, the values of the OnKB variables it binds
+/// (the same number for every solution), stored in one shared allocation.
+#[derive(Clone, Debug)]
+pub struct OnKbSolutions {
+    count: usize,
+    values: std::rc::Rc<[Option<ConstId>]>,
+}
 
-/// A schema and the values of its OnKB variables (`None` for unbound).
-type OnKbKey = (u32, Box<[Option<ConstId>]>);
+impl OnKbSolutions {
+    fn new(count: usize, values: Vec<Option<ConstId>>) -> OnKbSolutions {
+        OnKbSolutions { count, values: values.into() }
+    }
+
+    /// The solutions, in the engine's order.
+    pub fn iter(&self) -> impl Iterator<Item = &[Option<ConstId>]> {
+        let width = self.values.len().checked_div(self.count).unwrap_or(0);
+        (0..self.count).map(move |i| &self.values[i * width..(i + 1) * width])
+    }
+}
+
+/// A schema (and for one goal alone, the goal's index plus one; zero for the conjunction) and
+/// the values of the variables (`None` for unbound).
+type OnKbKey = (u32, u32, Box<[Option<ConstId>]>);
+
+/// For each OnKB goal of a schema, the positions of its variables among the schema's.
+type GoalPositions = Box<[Box<[u32]>]>;
+
+/// An [`OnKbKey`] looked up without allocating one: hashes and compares as the key does.
+#[derive(Hash)]
+struct OnKbKeyRef<'a>(u32, u32, &'a [Option<ConstId>]);
+
+impl hashbrown::Equivalent<OnKbKey> for OnKbKeyRef<'_> {
+    fn equivalent(&self, key: &OnKbKey) -> bool {
+        self.0 == key.0 && self.1 == key.1 && self.2 == &*key.2
+    }
+}
 
 /// Solutions of the schemas' OnKB goals, remembered across states.
 ///
@@ -160,35 +191,80 @@ type OnKbKey = (u32, Box<[Option<ConstId>]>);
 /// only on the values of their variables that are already bound: each such combination is
 /// proven once by the engine and then looked up. A solution gives a value (or `None`, if the
 /// engine left it unbound) to each OnKB variable that was unbound.
+///
+/// A schema with several OnKB goals (and no cut among them) is proven goal by goal, each goal
+/// remembered under the values of its own variables: `destination(B, X2, Y2), (X1 \== X2 ;
+/// Y1 \== Y2)` is then proven once per block for the first goal, not once per block and
+/// source cell, which is what the relaxed exploration asks for (every cell a block can reach).
+/// The KB is pure, so a goal whose variables are bound to constants by the goals before it
+/// has the same solutions, in the same order, as it has inside the conjunction. A variable a
+/// goal leaves unbound (or bound to a term with variables) stays so in the conjunction too,
+/// unless a later goal reads it or it shares a variable with another one the goal leaves
+/// unbound; in those cases, and when the engine stops with an error, the conjunction is
+/// proven whole instead, so the answers (and errors) are always the conjunction's.
 #[derive(Default)]
 pub struct OnKbCache {
     /// Per schema: its OnKB variables, in order.
     vars: Vec<Box<[u32]>>,
-    /// (schema, values of its OnKB variables, `None` for unbound) to solutions.
-    map: rustc_hash::FxHashMap<OnKbKey, OnKbSolutions>,
+    /// Per schema, when its goals are proven one at a time: for each goal, the positions of
+    /// its variables in the schema's `vars`.
+    split: Vec<Option<GoalPositions>>,
+    /// (schema, 0, values of its OnKB variables, `None` for unbound) to solutions.
+    map: hashbrown::HashMap<OnKbKey, OnKbSolutions, rustc_hash::FxBuildHasher>,
+    /// (schema, goal + 1, values of the goal's variables) to the values of its variables in
+    /// each solution; `None` where the goal cannot be proven apart (see [`OnKbCache`]).
+    goals: hashbrown::HashMap<OnKbKey, Option<OnKbSolutions>, rustc_hash::FxBuildHasher>,
+    /// Scratch space for a key.
+    key: Vec<Option<ConstId>>,
+}
+
+/// The variables of `goal`, in order of first occurrence, appended to `vars` if not there.
+fn goal_vars(goal: &Goal, vars: &mut Vec<u32>) {
+    goal.for_each_call(&mut |l| {
+        l.term.for_each_var(&mut |v| {
+            if !vars.contains(&v.0) {
+                vars.push(v.0);
+            }
+        })
+    });
 }
 
 impl OnKbCache {
     /// A cache for `task`'s schemas.
     pub fn new(task: &Task) -> OnKbCache {
-        let vars = task
-            .schemas
-            .iter()
-            .map(|schema| {
-                let mut vars = Vec::new();
-                for goal in schema.on_kb.iter() {
-                    goal.for_each_call(&mut |l| {
-                        l.term.for_each_var(&mut |v| {
-                            if !vars.contains(&v.0) {
-                                vars.push(v.0);
-                            }
-                        })
-                    });
-                }
-                vars.into_boxed_slice()
-            })
-            .collect();
-        OnKbCache { vars, map: Default::default() }
+        let mut cache = OnKbCache::default();
+        for schema in task.schemas.iter() {
+            let mut vars = Vec::new();
+            for goal in schema.on_kb.iter() {
+                goal_vars(goal, &mut vars);
+            }
+            let mut cut = false;
+            for goal in schema.on_kb.iter() {
+                goal.for_each_call(&mut |l| cut |= l.term.callable() == Some((sym::CUT, 0)));
+            }
+            let split = (schema.on_kb.len() > 1 && !cut).then(|| {
+                schema
+                    .on_kb
+                    .iter()
+                    .map(|goal| {
+                        let mut own = Vec::new();
+                        goal_vars(goal, &mut own);
+                        own.iter().map(|v| vars.iter().position(|w| w == v).expect("an OnKB variable") as u32).collect()
+                    })
+                    .collect()
+            });
+            cache.vars.push(vars.into_boxed_slice());
+            cache.split.push(split);
+        }
+        cache
+    }
+
+    /// A cache for `task`'s schemas that proves every conjunction of OnKB goals in one query,
+    /// never goal by goal: the reference the split proofs are tested against.
+    pub fn whole(task: &Task) -> OnKbCache {
+        let mut cache = OnKbCache::new(task);
+        cache.split.iter_mut().for_each(|split| *split = None);
+        cache
     }
 
     /// The OnKB variables of schema `index`.
@@ -206,11 +282,33 @@ impl OnKbCache {
         index: usize,
         bindings: &[Option<ConstId>],
     ) -> Result<OnKbSolutions, EngineError> {
-        let vars = &self.vars[index];
-        let key: Box<[Option<ConstId>]> = vars.iter().map(|&v| bindings[v as usize]).collect();
-        if let Some(found) = self.map.get(&(index as u32, key.clone())) {
-            return Ok(found.clone());
+        let mut key = std::mem::take(&mut self.key);
+        key.clear();
+        key.extend(self.vars[index].iter().map(|&v| bindings[v as usize]));
+        if let Some(found) = self.map.get(&OnKbKeyRef(index as u32, 0, &key)) {
+            let found = found.clone();
+            self.key = key;
+            return Ok(found);
         }
+        let key: Box<[Option<ConstId>]> = key.as_slice().into();
+        let solutions = match self.solve_split(machine, consts, schema, index, &key) {
+            Some(solutions) => solutions,
+            None => self.solve_whole(machine, consts, schema, index, bindings)?,
+        };
+        self.map.insert((index as u32, 0, key), solutions.clone());
+        Ok(solutions)
+    }
+
+    /// Proves the conjunction of schema `index`'s OnKB goals in one engine query.
+    fn solve_whole(
+        &self,
+        machine: &mut Machine<'_>,
+        consts: &mut Consts,
+        schema: &Schema,
+        index: usize,
+        bindings: &[Option<ConstId>],
+    ) -> Result<OnKbSolutions, EngineError> {
+        let vars = &self.vars[index];
         machine.reset();
         let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
         for &v in vars.iter() {
@@ -224,14 +322,109 @@ impl OnKbCache {
             .filter(|&&v| bindings[v as usize].is_none())
             .map(|&v| cells[v as usize].unwrap_or(Cell::Atom(sym::ANON)))
             .collect();
-        let mut solutions: Vec<Box<[Option<ConstId>]>> = Vec::new();
+        let (mut count, mut values) = (0, Vec::new());
         machine.solve(goal, |m| {
-            solutions.push(unbound.iter().map(|cell| cell_to_const(m, consts, *cell)).collect());
+            values.extend(unbound.iter().map(|cell| cell_to_const(m, consts, *cell)));
+            count += 1;
             Next::More
         })?;
-        let solutions: OnKbSolutions = solutions.into();
-        self.map.insert((index as u32, key), solutions.clone());
-        Ok(solutions)
+        Ok(OnKbSolutions::new(count, values))
+    }
+
+    /// Proves schema `index`'s OnKB goals one at a time (see [`OnKbCache`]), from the values
+    /// `key` of its OnKB variables; `None` where the conjunction must be proven whole.
+    fn solve_split(
+        &mut self,
+        machine: &mut Machine<'_>,
+        consts: &mut Consts,
+        schema: &Schema,
+        index: usize,
+        key: &[Option<ConstId>],
+    ) -> Option<OnKbSolutions> {
+        let split = self.split[index].clone()?;
+        // Partial solutions: a value per OnKB variable, in the order of `vars`.
+        // Partial solutions, one after the other, each a value per OnKB variable.
+        let width = key.len();
+        let (mut partial, mut count): (Vec<Option<ConstId>>, usize) = (key.to_vec(), 1);
+        let mut next = Vec::new();
+        let mut own = Vec::new();
+        for (g, positions) in split.iter().enumerate() {
+            next.clear();
+            let mut next_count = 0;
+            for i in 0..count {
+                let values = &partial[i * width..(i + 1) * width];
+                own.clear();
+                own.extend(positions.iter().map(|&p| values[p as usize]));
+                let goal = (g + 1) as u32;
+                let solutions = match self.goals.get(&OnKbKeyRef(index as u32, goal, &own)) {
+                    Some(found) => found.clone()?,
+                    None => {
+                        let solved = self.solve_goal(machine, consts, schema, index, g, &own);
+                        self.goals.insert((index as u32, goal, own.as_slice().into()), solved.clone());
+                        solved?
+                    }
+                };
+                for solution in solutions.iter() {
+                    let at = next.len();
+                    next.extend_from_slice(values);
+                    for (&p, &value) in positions.iter().zip(solution.iter()) {
+                        next[at + p as usize] = value;
+                    }
+                    next_count += 1;
+                }
+            }
+            std::mem::swap(&mut partial, &mut next);
+            count = next_count;
+        }
+        let mut values = Vec::new();
+        for i in 0..count {
+            let solution = &partial[i * width..(i + 1) * width];
+            values.extend(key.iter().zip(solution).filter(|(bound, _)| bound.is_none()).map(|(_, &v)| v));
+        }
+        Some(OnKbSolutions::new(count, values))
+    }
+
+    /// The solutions of goal `g` of schema `index` alone, from the values `own` of its
+    /// variables; `None` if it cannot be proven apart (see [`OnKbCache`]) or the engine stops
+    /// with an error (the whole conjunction then reports it).
+    fn solve_goal(
+        &self,
+        machine: &mut Machine<'_>,
+        consts: &mut Consts,
+        schema: &Schema,
+        index: usize,
+        g: usize,
+        own: &[Option<ConstId>],
+    ) -> Option<OnKbSolutions> {
+        let split = self.split[index].as_ref().expect("a split schema");
+        let vars = &self.vars[index];
+        machine.reset();
+        let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
+        for (&p, value) in split[g].iter().zip(own.iter()) {
+            if let Some(value) = value {
+                cells[vars[p as usize] as usize] = Some(const_to_cell(machine, consts, *value));
+            }
+        }
+        let goal = machine.put_conjunction(&schema.on_kb[g..=g], &mut cells);
+        let read: Vec<Cell> =
+            split[g].iter().map(|&p| cells[vars[p as usize] as usize].unwrap_or(Cell::Atom(sym::ANON))).collect();
+        // The positions later goals read.
+        let later: Vec<u32> = split[g + 1..].iter().flat_map(|own| own.iter().copied()).collect();
+        let (mut count, mut values) = (0, Vec::new());
+        let mut apart = true;
+        let outcome = machine.solve(goal, |m| {
+            let at = values.len();
+            values.extend(read.iter().map(|cell| cell_to_const(m, consts, *cell)));
+            let mut open = split[g].iter().zip(&values[at..]).filter(|(_, value)| value.is_none());
+            apart = match (open.next(), open.next()) {
+                (None, _) => true,
+                (Some((p, _)), None) => !later.contains(p),
+                (Some(_), Some(_)) => false,
+            };
+            count += 1;
+            if apart { Next::More } else { Next::Stop }
+        });
+        (outcome.is_ok() && apart).then(|| OnKbSolutions::new(count, values))
     }
 }
 
