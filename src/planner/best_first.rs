@@ -125,10 +125,14 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 /// with a shorter score than the one before, and prefixes are pruned by their resource-free
 /// makespan (a lower bound for the rearranged plan) rather than by their own, which those
 /// passes can shorten a lot.
+///
+/// `relaxation` is the heuristic, grounded by the caller (who also used it to check that the
+/// initial state is not a dead end).
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
+    mut relaxation: Relaxation,
     budget: &Budget,
     wanted: usize,
     improve_until: Option<Instant>,
@@ -138,17 +142,6 @@ pub fn search(
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
-    let mut relaxation = Relaxation::new(task);
-    // The heuristic's set-up and every evaluation share the search's deadline and memory
-    // budget; grounding that would take more than half the memory leaves the heuristic lifted.
-    relaxation.limit(budget.deadline, budget.max_bytes);
-    {
-        let (machine, cache) = successors.parts();
-        if let Err(stop) = relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
-            relaxation.discard();
-            return Outcome::failed(stop.into(), stats);
-        }
-    }
     let init = task.init.clone();
     if successors::goal_reached(task, &init) {
         return Outcome::ended(vec![plan_from(task, &[])], Failure::Exhausted { depth_limit: None }, stats);

@@ -250,23 +250,44 @@ pub fn search_scored(
     }
     let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
     let init = task.init.clone();
-    let root = {
-        let mut relaxation = relaxed::Relaxation::new(task);
-        relaxation.limit(options.budget.deadline, options.budget.max_bytes);
-        let (machine, cache) = successors.parts();
-        let estimate = relaxation.evaluate(task, &init, machine, cache, false);
-        relaxation.discard();
-        estimate
+    // The root check: a goal no relaxed plan reaches can never be reached. The heuristic
+    // search's relaxation, grounded by one full exploration from the initial state, answers it
+    // (and is then handed to the search); the paper's search only needs the answer.
+    let mut relaxation = None;
+    let root = match options.search {
+        SearchKind::Heuristic => match ground_relaxation(task, &mut successors, &options.budget) {
+            Ok(mut grounded) => {
+                let (machine, cache) = successors.parts();
+                let estimate = grounded.evaluate(task, &init, machine, cache, false);
+                relaxation = Some(grounded);
+                estimate
+            }
+            Err(stop) => Err(stop),
+        },
+        SearchKind::Paper => {
+            let mut lifted = relaxed::Relaxation::new(task);
+            lifted.limit(options.budget.deadline, options.budget.max_bytes);
+            let (machine, cache) = successors.parts();
+            let estimate = lifted.evaluate(task, &init, machine, cache, false);
+            lifted.discard();
+            estimate
+        }
     };
     match root {
         // The root check only looks for a goal that can never be reached; the paper's search
         // does not need it, so one too big for the budget is skipped rather than fatal.
         Err(relaxed::Stop::Budget(_)) if options.search == SearchKind::Paper => {}
         Err(stop) => {
+            if let Some(relaxation) = relaxation {
+                relaxation.discard();
+            }
             let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
             return Outcome::failed(stop.into(), stats);
         }
         Ok(estimate) if estimate.h_add.is_none() => {
+            if let Some(relaxation) = relaxation {
+                relaxation.discard();
+            }
             let explained = analysis::explain_unreachable(kb, task, &program, interner, &options.budget);
             let stats = Stats { elapsed: started.elapsed(), evaluated: 1, ..Stats::default() };
             let result = match explained {
@@ -290,9 +311,11 @@ pub fn search_scored(
                 Some(time) => (usize::MAX, Some(Instant::now() + time)),
                 None => (options.plans.max(1), None),
             };
+            let relaxation = relaxation.expect("grounded for the root check");
             let outcome = best_first::search(
                 task,
                 successors,
+                relaxation,
                 &options.budget,
                 wanted,
                 until,
@@ -306,10 +329,15 @@ pub fn search_scored(
                 // more without the temporal check: the scheduler then rejects that plan with
                 // a diagnostic naming the constraints that cannot be met, which says far more
                 // than "no plan".
-                let successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
+                let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
+                let relaxation = match ground_relaxation(task, &mut successors, &options.budget) {
+                    Ok(relaxation) => relaxation,
+                    Err(stop) => return Outcome::failed(stop.into(), outcome.stats),
+                };
                 let mut retry = best_first::search(
                     task,
                     successors,
+                    relaxation,
                     &options.budget,
                     wanted,
                     until,
@@ -327,6 +355,26 @@ pub fn search_scored(
     };
     outcome.stats.elapsed = started.elapsed();
     outcome
+}
+
+/// The heuristic's relaxation of `task`, grounded by one full exploration from the initial
+/// state ([`relaxed::Relaxation::ground`]) under the search's deadline and memory budget: a
+/// task too big to ground in half the memory keeps the lifted relaxation.
+fn ground_relaxation(
+    task: &mut Task,
+    successors: &mut Successors<'_>,
+    budget: &Budget,
+) -> Result<relaxed::Relaxation, relaxed::Stop> {
+    let mut relaxation = relaxed::Relaxation::new(task);
+    relaxation.limit(budget.deadline, budget.max_bytes);
+    let (machine, cache) = successors.parts();
+    match relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
+        Ok(_) => Ok(relaxation),
+        Err(stop) => {
+            relaxation.discard();
+            Err(stop)
+        }
+    }
 }
 
 /// The diagnostic that says why a search for `problem` found no plan; `figures` describes
