@@ -375,6 +375,39 @@ fn onkb_goals_proven_one_at_a_time_answer_as_the_conjunction() {
 }
 
 #[test]
+fn the_ends_of_one_running_action_are_those_the_whole_schema_gives_it() {
+    // The search asks whether a start's own end can apply (`Successors::ending`) without
+    // enumerating the ends of every running action; it must find exactly those.
+    let rung = Rung { family: Family::Swap, blocks: 8, arms: 3, seed: 4 };
+    let (_, blocks, _) = kbc::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+    for (name, frontend) in [("std/blocks.pl", blocks), ("depot", depot(false))] {
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let states = random_walk(&mut task, &mut successors, 60, 9);
+        let mut compared = 0;
+        for state in &states {
+            for index in 0..task.schemas.len() {
+                if task.schemas[index].snap != kbc::ir::hir::Snap::End {
+                    continue;
+                }
+                let mut all = Vec::new();
+                successors.schema(&mut task, index, state, &mut all).expect("no engine error");
+                for &running in &state.running {
+                    let mut own = Vec::new();
+                    successors.ending(&mut task, index, state, running, &mut own).expect("no engine error");
+                    let expected: Vec<_> = all.iter().filter(|a| a.ends == Some(running)).cloned().collect();
+                    assert_eq!(own, expected, "{name}: the ends of one running action");
+                    compared += own.len();
+                }
+            }
+        }
+        assert!(compared >= 3, "{name}: only {compared} ends compared");
+    }
+}
+
+#[test]
 fn exclusion_nodes_keep_every_ground_h_add() {
     // A rule whose literal matters only through a disequality (a move's source cell) is
     // grounded without it, through exclusion nodes: far fewer actions, and on every state the

@@ -333,7 +333,7 @@ pub fn search(
                         for index in 0..task.schemas.len() {
                             if task.schemas[index].snap == Snap::End
                                 && task.schemas[index].base == base
-                                && let Err(error) = successors.schema(task, index, &child, &mut ends_scratch)
+                                && let Err(error) = successors.ending(task, index, &child, instance, &mut ends_scratch)
                             {
                                 return Outcome::ended(found, Failure::Condition(error), stats);
                             }

@@ -497,6 +497,33 @@ impl<'p> Successors<'p> {
         self.schema_in(task, index, state, None, out)
     }
 
+    /// The applicable instances of end schema `index` that end the running action `running`:
+    /// those of [`Successors::schema`] whose `ends` is `running`, without trying the others.
+    pub fn ending(
+        &mut self,
+        task: &mut Task,
+        index: usize,
+        state: &State,
+        running: ConstId,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
+        debug_assert_eq!(task.schemas[index].snap, Snap::End);
+        if !state.running.contains(&running) {
+            return Ok(());
+        }
+        let Task { consts, facts, schemas, goal_terms, .. } = task;
+        let schema = &schemas[index];
+        self.bindings.clear();
+        self.bindings.resize(schema.vars, None);
+        self.trail.clear();
+        let mut context = Context { consts, facts, goal_terms, schema, index, state, order: None, out };
+        if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
+            self.valid(&mut context, 0, Some(running))?;
+        }
+        undo(&mut self.bindings, &mut self.trail, 0);
+        Ok(())
+    }
+
     fn schema_in(
         &mut self,
         task: &mut Task,
