@@ -826,6 +826,8 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
     let steps = plan_lines(&stdout(&kbc(&["plan", "-q", file]))).len();
     assert!(search.contains(&format!("a plan of {steps} snap actions")) && search.contains("expanded"), "{search}");
+    // The time before the first expansion (analyses, grounding) is shown apart.
+    assert!(search.contains("; set-up ") && search.contains(" s; expanded"), "{search}");
     // Without the flag, no table; with --quiet, a usage error.
     assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
     assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));

@@ -114,6 +114,9 @@ pub struct Stats {
     pub evaluated: u64,
     /// Wall-clock time.
     pub elapsed: Duration,
+    /// The part of `elapsed` spent before the first expansion: the analyses, the root check
+    /// and the heuristic's grounding.
+    pub setup: Duration,
     /// The most bytes of states stored at once.
     pub peak_bytes: usize,
     /// Plan prefixes pruned because no schedule fits their durations.
@@ -245,7 +248,7 @@ pub fn search_scored(
     let unsolvable =
         analysis::exclusive_goals(kb, task, interner).or_else(|| analysis::missing_units(kb, task, interner));
     if let Some(diagnostic) = unsolvable {
-        let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
+        let stats = Stats { elapsed: started.elapsed(), setup: started.elapsed(), ..Stats::default() };
         return Outcome::failed(Failure::Unsolvable(Box::new(diagnostic)), stats);
     }
     let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
@@ -281,7 +284,7 @@ pub fn search_scored(
             if let Some(relaxation) = relaxation {
                 relaxation.discard();
             }
-            let stats = Stats { elapsed: started.elapsed(), ..Stats::default() };
+            let stats = Stats { elapsed: started.elapsed(), setup: started.elapsed(), ..Stats::default() };
             return Outcome::failed(stop.into(), stats);
         }
         Ok(estimate) if estimate.h_add.is_none() => {
@@ -289,7 +292,8 @@ pub fn search_scored(
                 relaxation.discard();
             }
             let explained = analysis::explain_unreachable(kb, task, &program, interner, &options.budget);
-            let stats = Stats { elapsed: started.elapsed(), evaluated: 1, ..Stats::default() };
+            let stats =
+                Stats { elapsed: started.elapsed(), setup: started.elapsed(), evaluated: 1, ..Stats::default() };
             let result = match explained {
                 Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
                 None => Failure::Exhausted { depth_limit: None },
@@ -298,6 +302,7 @@ pub fn search_scored(
         }
         Ok(_) => {}
     }
+    let setup = started.elapsed();
     let mut outcome = match options.search {
         SearchKind::Paper => {
             let limit = options.max_depth.or(task.max_depth).unwrap_or(DEFAULT_MAX_DEPTH);
@@ -354,6 +359,7 @@ pub fn search_scored(
         }
     };
     outcome.stats.elapsed = started.elapsed();
+    outcome.stats.setup = setup;
     outcome
 }
 

@@ -566,7 +566,8 @@ impl Session {
                     Ok(plan) => format!("a plan of {} snap actions", plan.steps.len()),
                     Err(_) => "no plan".to_string(),
                 };
-                format!("{found}; {}", stats_line(&outcome.stats))
+                let setup = outcome.stats.setup.as_secs_f64();
+                format!("{found}; set-up {setup:.3} s; {}", stats_line(&outcome.stats))
             },
         );
         let found = match outcome.result {
