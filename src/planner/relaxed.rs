@@ -1323,8 +1323,8 @@ impl Relaxation {
         match solutions {
             None => offer(self, task, bindings),
             Some(solutions) => {
+                let mut extended = bindings.to_vec();
                 for solution in solutions.iter() {
-                    let mut extended = bindings.to_vec();
                     for (&v, value) in unbound.iter().zip(solution.iter()) {
                         extended[v as usize] = *value;
                     }

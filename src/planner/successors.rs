@@ -290,12 +290,13 @@ impl OnKbCache {
             self.key = key;
             return Ok(found);
         }
-        let key: Box<[Option<ConstId>]> = key.as_slice().into();
-        let solutions = match self.solve_split(machine, consts, schema, index, &key) {
+        let boxed: Box<[Option<ConstId>]> = key.as_slice().into();
+        self.key = key;
+        let solutions = match self.solve_split(machine, consts, schema, index, &boxed) {
             Some(solutions) => solutions,
             None => self.solve_whole(machine, consts, schema, index, bindings)?,
         };
-        self.map.insert((index as u32, 0, key), solutions.clone());
+        self.map.insert((index as u32, 0, boxed), solutions.clone());
         Ok(solutions)
     }
 
