@@ -244,12 +244,16 @@ pub fn search_scored(
     progress: &mut dyn Progress,
 ) -> Outcome {
     let started = Instant::now();
+    // The figures of a search that ends before its first expansion.
+    let before_search = |evaluated: u64| {
+        let elapsed = started.elapsed();
+        Stats { elapsed, setup: elapsed, evaluated, ..Stats::default() }
+    };
     let program = program_for(kb, task.problem);
     let unsolvable =
         analysis::exclusive_goals(kb, task, interner).or_else(|| analysis::missing_units(kb, task, interner));
     if let Some(diagnostic) = unsolvable {
-        let stats = Stats { elapsed: started.elapsed(), setup: started.elapsed(), ..Stats::default() };
-        return Outcome::failed(Failure::Unsolvable(Box::new(diagnostic)), stats);
+        return Outcome::failed(Failure::Unsolvable(Box::new(diagnostic)), before_search(0));
     }
     let mut successors = Successors::new(task, Machine::new(&program, options.budget.engine_steps));
     let init = task.init.clone();
@@ -280,27 +284,20 @@ pub fn search_scored(
         // The root check only looks for a goal that can never be reached; the paper's search
         // does not need it, so one too big for the budget is skipped rather than fatal.
         Err(relaxed::Stop::Budget(_)) if options.search == SearchKind::Paper => {}
-        Err(stop) => {
+        Ok(estimate) if estimate.h_add.is_some() => {}
+        failed => {
             if let Some(relaxation) = relaxation {
                 relaxation.discard();
             }
-            let stats = Stats { elapsed: started.elapsed(), setup: started.elapsed(), ..Stats::default() };
-            return Outcome::failed(stop.into(), stats);
-        }
-        Ok(estimate) if estimate.h_add.is_none() => {
-            if let Some(relaxation) = relaxation {
-                relaxation.discard();
-            }
-            let explained = analysis::explain_unreachable(kb, task, &program, interner, &options.budget);
-            let stats =
-                Stats { elapsed: started.elapsed(), setup: started.elapsed(), evaluated: 1, ..Stats::default() };
-            let result = match explained {
-                Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
-                None => Failure::Exhausted { depth_limit: None },
+            let result = match failed {
+                Err(stop) => return Outcome::failed(stop.into(), before_search(0)),
+                Ok(_) => match analysis::explain_unreachable(kb, task, &program, interner, &options.budget) {
+                    Some(diagnostic) => Failure::Unsolvable(Box::new(diagnostic)),
+                    None => Failure::Exhausted { depth_limit: None },
+                },
             };
-            return Outcome::failed(result, stats);
+            return Outcome::failed(result, before_search(1));
         }
-        Ok(_) => {}
     }
     let setup = started.elapsed();
     let mut outcome = match options.search {

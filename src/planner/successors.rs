@@ -173,7 +173,7 @@ impl OnKbSolutions {
 type OnKbKey = (u32, u32, Box<[Option<ConstId>]>);
 
 /// For each OnKB goal of a schema, the positions of its variables among the schema's.
-type GoalPositions = Box<[Box<[u32]>]>;
+type GoalPositions = std::rc::Rc<[Box<[u32]>]>;
 
 /// An [`OnKbKey`] looked up without allocating one: hashes and compares as the key does.
 #[derive(Hash)]
@@ -227,6 +227,25 @@ fn goal_vars(goal: &Goal, vars: &mut Vec<u32>) {
             }
         })
     });
+}
+
+/// Places `goals` (OnKB goals of `schema`) on the engine's heap as one query, after a reset,
+/// with each variable of `bound` set to its value; returns the query and the cell of every
+/// schema variable (`_` for those the goals do not name).
+fn put_query(
+    machine: &mut Machine<'_>,
+    consts: &Consts,
+    schema: &Schema,
+    goals: &[Goal],
+    bound: impl Iterator<Item = (u32, ConstId)>,
+) -> (Cell, Vec<Cell>) {
+    machine.reset();
+    let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
+    for (v, value) in bound {
+        cells[v as usize] = Some(const_to_cell(machine, consts, value));
+    }
+    let goal = machine.put_conjunction(goals, &mut cells);
+    (goal, cells.into_iter().map(|cell| cell.unwrap_or(Cell::Atom(sym::ANON))).collect())
 }
 
 impl OnKbCache {
@@ -310,19 +329,10 @@ impl OnKbCache {
         bindings: &[Option<ConstId>],
     ) -> Result<OnKbSolutions, EngineError> {
         let vars = &self.vars[index];
-        machine.reset();
-        let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
-        for &v in vars.iter() {
-            if let Some(value) = bindings[v as usize] {
-                cells[v as usize] = Some(const_to_cell(machine, consts, value));
-            }
-        }
-        let goal = machine.put_conjunction(&schema.on_kb, &mut cells);
-        let unbound: Vec<Cell> = vars
-            .iter()
-            .filter(|&&v| bindings[v as usize].is_none())
-            .map(|&v| cells[v as usize].unwrap_or(Cell::Atom(sym::ANON)))
-            .collect();
+        let bound = vars.iter().filter_map(|&v| Some((v, bindings[v as usize]?)));
+        let (goal, cells) = put_query(machine, consts, schema, &schema.on_kb, bound);
+        let unbound: Vec<Cell> =
+            vars.iter().filter(|&&v| bindings[v as usize].is_none()).map(|&v| cells[v as usize]).collect();
         let (mut count, mut values) = (0, Vec::new());
         machine.solve(goal, |m| {
             values.extend(unbound.iter().map(|cell| cell_to_const(m, consts, *cell)));
@@ -343,8 +353,8 @@ impl OnKbCache {
         key: &[Option<ConstId>],
     ) -> Option<OnKbSolutions> {
         let split = self.split[index].clone()?;
-        // Partial solutions: a value per OnKB variable, in the order of `vars`.
-        // Partial solutions, one after the other, each a value per OnKB variable.
+        // Partial solutions, one after the other, each a value per OnKB variable (in the
+        // order of `vars`).
         let width = key.len();
         let (mut partial, mut count): (Vec<Option<ConstId>>, usize) = (key.to_vec(), 1);
         let mut next = Vec::new();
@@ -399,16 +409,9 @@ impl OnKbCache {
     ) -> Option<OnKbSolutions> {
         let split = self.split[index].as_ref().expect("a split schema");
         let vars = &self.vars[index];
-        machine.reset();
-        let mut cells: Vec<Option<Cell>> = vec![None; schema.vars];
-        for (&p, value) in split[g].iter().zip(own.iter()) {
-            if let Some(value) = value {
-                cells[vars[p as usize] as usize] = Some(const_to_cell(machine, consts, *value));
-            }
-        }
-        let goal = machine.put_conjunction(&schema.on_kb[g..=g], &mut cells);
-        let read: Vec<Cell> =
-            split[g].iter().map(|&p| cells[vars[p as usize] as usize].unwrap_or(Cell::Atom(sym::ANON))).collect();
+        let bound = split[g].iter().zip(own.iter()).filter_map(|(&p, value)| Some((vars[p as usize], (*value)?)));
+        let (goal, cells) = put_query(machine, consts, schema, &schema.on_kb[g..=g], bound);
+        let read: Vec<Cell> = split[g].iter().map(|&p| cells[vars[p as usize] as usize]).collect();
         // The positions later goals read.
         let later: Vec<u32> = split[g + 1..].iter().flat_map(|own| own.iter().copied()).collect();
         let (mut count, mut values) = (0, Vec::new());
@@ -465,7 +468,7 @@ impl<'p> Successors<'p> {
     ) -> Result<(), ConditionError> {
         out.clear();
         for index in 0..task.schemas.len() {
-            self.schema_in(task, index, state, None, out)?;
+            self.schema_in(task, index, state, None, None, out)?;
         }
         Ok(())
     }
@@ -482,7 +485,7 @@ impl<'p> Successors<'p> {
     ) -> Result<(), ConditionError> {
         out.clear();
         for index in 0..task.schemas.len() {
-            self.schema_in(task, index, state, Some(order), out)?;
+            self.schema_in(task, index, state, Some(order), None, out)?;
         }
         Ok(())
     }
@@ -495,7 +498,7 @@ impl<'p> Successors<'p> {
         state: &State,
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
-        self.schema_in(task, index, state, None, out)
+        self.schema_in(task, index, state, None, None, out)
     }
 
     /// The applicable instances of end schema `index` that end the running action `running`:
@@ -509,28 +512,18 @@ impl<'p> Successors<'p> {
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
         debug_assert_eq!(task.schemas[index].snap, Snap::End);
-        if !state.running.contains(&running) {
-            return Ok(());
-        }
-        let Task { consts, facts, schemas, goal_terms, .. } = task;
-        let schema = &schemas[index];
-        self.bindings.clear();
-        self.bindings.resize(schema.vars, None);
-        self.trail.clear();
-        let mut context = Context { consts, facts, goal_terms, schema, index, state, order: None, out };
-        if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
-            self.valid(&mut context, 0, Some(running))?;
-        }
-        undo(&mut self.bindings, &mut self.trail, 0);
-        Ok(())
+        self.schema_in(task, index, state, None, Some(running), out)
     }
 
+    /// The applicable instances of schema `index`, with Valid literals matched in `order`'s
+    /// order if given; for an end, only those that end `only` if given.
     fn schema_in(
         &mut self,
         task: &mut Task,
         index: usize,
         state: &State,
         order: Option<&PaperOrder>,
+        only: Option<ConstId>,
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
         let Task { consts, facts, schemas, goal_terms, .. } = task;
@@ -544,7 +537,7 @@ impl<'p> Successors<'p> {
                 Some(order) => &order.running,
                 None => &state.running,
             };
-            for &running in running {
+            for &running in running.iter().filter(|&&r| only.is_none_or(|only| only == r)) {
                 let mark = self.trail.len();
                 if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
                     self.valid(&mut context, 0, Some(running))?;
