@@ -828,6 +828,13 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     assert!(search.contains(&format!("a plan of {steps} snap actions")) && search.contains("expanded"), "{search}");
     // The time before the first expansion (analyses, grounding) is shown apart.
     assert!(search.contains("; set-up ") && search.contains(" s; expanded"), "{search}");
+    // Successors that only swap idle arms are left out and counted; `--no-symmetry` keeps them.
+    assert!(search.contains(" symmetric left out)"), "{search}");
+    let all = kbc(&["plan", "-v", "--no-symmetry", file]);
+    assert_eq!(all.status.code(), Some(0));
+    let text = stderr(&all);
+    let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
+    assert!(search.contains("expanded") && !search.contains("symmetric"), "{search}");
     // Without the flag, no table; with --quiet, a usage error.
     assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
     assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));

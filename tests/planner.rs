@@ -519,3 +519,250 @@ fn without_grounding_the_lifted_heuristic_still_plans() {
         assert_valid(&frontend, p, &plan);
     }
 }
+
+/// A front end on one KB text (which must check without errors).
+fn from_text(name: &str, source: String) -> Frontend {
+    let (_, frontend, diagnostics) = kbc::session::Session::from_text(name, source).into_parts();
+    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
+    assert!(errors.is_empty(), "{name}: {errors:?}");
+    frontend
+}
+
+/// A constant's text.
+fn const_text(frontend: &Frontend, task: &kbc::ir::task::Task, id: kbc::ir::task::ConstId) -> String {
+    let no_vars = kbc::ir::hir::VarTable::default();
+    kbc::ir::hir::term_to_string(&frontend.interner, &task.consts.to_term(id), &no_vars)
+}
+
+#[test]
+fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
+    use kbc::planner::symmetry::Symmetry;
+    let blocks = Rung { family: Family::Build, blocks: 6, arms: 3, seed: 1 };
+    let grid = Rung { family: Family::Grid, blocks: 6, arms: 3, seed: 1 };
+    const GRID: [&str; 9] = ["a1", "a2", "a3", "b1", "b2", "b3", "b4", "b5", "b6"];
+    // (what, KB, the candidates, pairs interchangeable in the initial state, pairs not)
+    type Case = (
+        &'static str,
+        String,
+        &'static [&'static str],
+        &'static [(&'static str, &'static str)],
+        &'static [(&'static str, &'static str)],
+    );
+    let cases: Vec<Case> = vec![
+        // (A block alone in its goal tower is a candidate too, alike with no other block.)
+        (
+            "arms only in the states",
+            blocks.source(),
+            &["a1", "a2", "a3", "b2", "b6"],
+            &[("a1", "a2"), ("a2", "a3")],
+            &[("b2", "b6"), ("a1", "b2")],
+        ),
+        // A rule that names an arm tells it apart: it is no candidate.
+        (
+            "an arm named by a rule",
+            format!("{}duration(grip(a2, _), 1, 3).\n", blocks.source()),
+            &["a1", "a3", "b2", "b6"],
+            &[("a1", "a3")],
+            &[],
+        ),
+        // Static facts that say the same of each agent keep them alike.
+        // (Blocks are candidates here too, each with facts of its own.)
+        ("agents as facts", grid.source(), &GRID, &[("a1", "a3")], &[("b1", "b2")]),
+        // A fact only one agent has: a candidate still, but alone in its class.
+        (
+            "one agent with a fact of its own",
+            format!("{}fast(a2).\n", grid.source()),
+            &GRID,
+            &[("a1", "a3")],
+            &[("a1", "a2"), ("a2", "a3")],
+        ),
+        // With a cut, reordering the agents' facts could change a first solution: facts
+        // with a candidate are then not swapped.
+        ("agents as facts and a cut", format!("{}first_agent(A) :- agent(A), !.\n", grid.source()), &[], &[], &[]),
+        // `duration/3`'s first answer counts: its rules must not reach the agents' facts.
+        (
+            "durations that read the agents",
+            format!("{}duration(wait(A), 1, 2) :- agent(A).\n", grid.source()),
+            &GRID[3..],
+            &[],
+            &[],
+        ),
+    ];
+    for (what, source, expected, alike, apart) in cases {
+        let frontend = from_text(&format!("{what}.pl"), source);
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let mut symmetry = Symmetry::new(&frontend.kb, &mut task);
+        let mut names: Vec<String> = symmetry.candidates().iter().map(|&c| const_text(&frontend, &task, c)).collect();
+        names.sort();
+        assert_eq!(names, expected, "{what}: the candidates");
+        let init = task.init.clone();
+        let classes = symmetry.classes(&task, &init);
+        let id = |name: &str| {
+            let symbol = frontend.interner.get(name).expect("interned");
+            task.consts.find_term(&kbc::ir::hir::Term::Atom(symbol)).expect("a constant")
+        };
+        for (a, b) in alike {
+            assert!(symmetry.interchangeable(&classes, id(a), id(b)), "{what}: {a} and {b} alike");
+        }
+        for (a, b) in apart {
+            assert!(!symmetry.interchangeable(&classes, id(a), id(b)), "{what}: {a} and {b} apart");
+        }
+    }
+}
+
+/// The permutation of `candidates` (by index) that renames action `a`'s bindings into `b`'s,
+/// if the two are of one schema and differ only by candidates, one for one: the renaming the
+/// bindings ask for, completed into a permutation by sending each candidate it takes over back
+/// along its chain.
+fn permutation_between(
+    a: &successors::Applicable,
+    b: &successors::Applicable,
+    candidates: &[kbc::ir::task::ConstId],
+) -> Option<Vec<usize>> {
+    if a.schema != b.schema {
+        return None;
+    }
+    let mut map: Vec<Option<usize>> = vec![None; candidates.len()];
+    for (x, y) in a.bindings.iter().zip(b.bindings.iter()) {
+        let (Some(x), Some(y)) = (x, y) else {
+            if x != y {
+                return None;
+            }
+            continue;
+        };
+        match (candidates.iter().position(|c| c == x), candidates.iter().position(|c| c == y)) {
+            (Some(i), Some(j)) => match map[i] {
+                Some(k) if k != j => return None,
+                _ => map[i] = Some(j),
+            },
+            _ if x == y => {}
+            _ => return None,
+        }
+    }
+    let image: Vec<usize> = map.iter().flatten().copied().collect();
+    if (1..image.len()).any(|k| image[..k].contains(&image[k])) {
+        return None; // not one for one
+    }
+    let mut sigma = vec![usize::MAX; candidates.len()];
+    for (i, target) in map.iter().enumerate() {
+        if let Some(j) = target {
+            sigma[i] = *j;
+        }
+    }
+    for (y, place) in sigma.iter_mut().enumerate() {
+        if *place != usize::MAX {
+            continue;
+        }
+        // `y` is not renamed; if something is renamed to it, it takes the place that chain
+        // started from.
+        let mut z = y;
+        while let Some(w) = map.iter().position(|t| *t == Some(z)) {
+            z = w;
+        }
+        *place = z;
+    }
+    Some(sigma)
+}
+
+#[test]
+fn every_successor_left_out_as_symmetric_has_a_twin_that_is_kept() {
+    // Checked by brute force, apart from how `Symmetry` decides: for each successor left out,
+    // some permutation of the candidates maps the state to itself and a kept successor's
+    // action and child state to the left-out one's (states compared as printed facts).
+    use kbc::ir::hir::Term;
+    use kbc::planner::symmetry::Symmetry;
+    let rungs = [
+        Rung { family: Family::Build, blocks: 6, arms: 4, seed: 2 },
+        Rung { family: Family::Swap, blocks: 8, arms: 3, seed: 4 },
+        Rung { family: Family::Grid, blocks: 6, arms: 3, seed: 1 },
+    ];
+    let mut frontends: Vec<(String, Frontend)> =
+        rungs.iter().map(|r| (r.name(), from_text(&format!("{}.pl", r.name()), r.source()))).collect();
+    frontends.push(("depot".into(), depot(false)));
+    // Hands alike in the KB but not in every state: `h2` has waved, `h1` must wave.
+    let hands = "resources(hand(_)).
+action(pick_start(H, T), [hand(H), free(T)], [], [], [], [del(hand(H)), del(free(T)), add(holding(H, T))]).
+action(pick_end(H, T), [holding(H, T)], [], [], [], [del(holding(H, T)), add(hand(H)), add(free(T)), add(used(T))]).
+action(wave_start(H), [hand(H)], [], [], [], [del(hand(H)), add(waving(H))]).
+action(wave_end(H), [waving(H)], [], [], [], [del(waving(H)), add(hand(H)), add(waved(H))]).
+duration(pick(_, _), 1, 2).
+duration(wave(_), 1, 2).
+init_state([hand(h1), hand(h2), hand(h3), hand(h4), free(t1), free(t2), waved(h2)]).
+goal_state([used(t1), used(t2), waved(h1)]).
+";
+    frontends.push(("hands".into(), from_text("hands.pl", hands.to_string())));
+    for (name, frontend) in &frontends {
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut symmetry = Symmetry::new(&frontend.kb, &mut task);
+        let ids: Vec<kbc::ir::task::ConstId> = symmetry.candidates().to_vec();
+        let candidates: Vec<String> = ids.iter().map(|&c| const_text(frontend, &task, c)).collect();
+        assert!(candidates.len() >= 2, "{name}: {candidates:?}");
+        let rename = |sigma: &[usize], text: &str| -> String {
+            // Atoms are whole words in printed terms.
+            let mut out = String::new();
+            let mut word = String::new();
+            for ch in text.chars().chain(std::iter::once(' ')) {
+                if ch.is_alphanumeric() || ch == '_' {
+                    word.push(ch);
+                    continue;
+                }
+                match candidates.iter().position(|c| *c == word) {
+                    Some(i) => out.push_str(&candidates[sigma[i]]),
+                    None => out.push_str(&word),
+                }
+                word.clear();
+                out.push(ch);
+            }
+            out.pop();
+            out
+        };
+        let printed = |task: &kbc::ir::task::Task, state: &kbc::ir::task::State| -> Vec<String> {
+            let no_vars = kbc::ir::hir::VarTable::default();
+            let show = |t: &Term| kbc::ir::hir::term_to_string(&frontend.interner, t, &no_vars);
+            let mut facts: Vec<String> = state.facts().map(|f| show(&task.facts.to_term(&task.consts, f))).collect();
+            facts.extend(state.running.iter().map(|&r| format!("running {}", show(&task.consts.to_term(r)))));
+            facts.sort();
+            facts
+        };
+        let (mut pruned, mut states) = (0, 0);
+        for seed in 1..=6 {
+            for state in random_walk(&mut task, &mut successors, 24, seed) {
+                states += 1;
+                let mut applicable = Vec::new();
+                successors.applicable(&mut task, &state, &mut applicable).expect("no engine error");
+                let classes = symmetry.classes(&task, &state);
+                let keep = symmetry.keep(&classes, &applicable, |_| 0);
+                let facts = printed(&task, &state);
+                let shown: Vec<(String, Vec<String>)> = applicable
+                    .iter()
+                    .map(|a| {
+                        let child = successors::apply(&mut task, &state, a);
+                        let action = successors::action_name(&task, a);
+                        let no_vars = kbc::ir::hir::VarTable::default();
+                        (kbc::ir::hir::term_to_string(&frontend.interner, &action, &no_vars), printed(&task, &child))
+                    })
+                    .collect();
+                for j in (0..applicable.len()).filter(|&j| !keep[j]) {
+                    pruned += 1;
+                    let twin = (0..applicable.len()).filter(|&i| keep[i]).any(|i| {
+                        // The renaming the two actions' bindings ask for, made a permutation.
+                        let Some(sigma) = permutation_between(&applicable[i], &applicable[j], &ids) else {
+                            return false;
+                        };
+                        let mut renamed: Vec<String> = facts.iter().map(|f| rename(&sigma, f)).collect();
+                        renamed.sort();
+                        let mut child: Vec<String> = shown[i].1.iter().map(|f| rename(&sigma, f)).collect();
+                        child.sort();
+                        renamed == facts && rename(&sigma, &shown[i].0) == shown[j].0 && child == shown[j].1
+                    });
+                    assert!(twin, "{name}: {} left out with no kept twin in state {facts:?}", shown[j].0);
+                }
+            }
+        }
+        assert!(pruned >= 5, "{name}: only {pruned} successors left out over {states} states");
+    }
+}

@@ -67,6 +67,11 @@ pub(super) struct PlanningArgs {
     /// pass).
     #[arg(long)]
     pub(super) no_reassign: bool,
+    /// Expand every successor the heuristic search generates, even those that differ from
+    /// another only by interchangeable constants, such as two idle arms (by default one of
+    /// each such set is kept: the one whose arm is free soonest).
+    #[arg(long)]
+    pub(super) no_symmetry: bool,
     /// Which plan: the high-level actions, or the arm-level actions they refine into through
     /// `mapping/2` and `ll_action/6` (with its own achievers, schedule and tree).
     #[arg(long, value_enum, default_value_t = LevelArg::High)]
@@ -190,6 +195,7 @@ impl PlanningArgs {
             reassign: !self.no_reassign,
             plan_file: None,
             epsilon: self.epsilon,
+            symmetry: !self.no_symmetry,
         }
     }
 }

@@ -37,6 +37,8 @@ use rustc_hash::FxBuildHasher;
 use super::landmarks::Accepted;
 use super::relaxed::{Helpful, Relaxation};
 use super::successors::{self, Applicable, Successors};
+use super::symmetry::Symmetry;
+use super::timing::Placement;
 use super::timing::{Durations, Timeline};
 use super::{Budget, Failure, Outcome, Progress, Score, Stats, over_budget, plan_from};
 use crate::ir::hir::Snap;
@@ -127,12 +129,15 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 /// passes can shorten a lot.
 ///
 /// `relaxation` is the heuristic, grounded by the caller (who also used it to check that the
-/// initial state is not a dead end).
+/// initial state is not a dead end). With `symmetry`, of the successors of a state that differ
+/// only by constants interchangeable there (idle arms), the one placed earliest in the
+/// prefix's timeline is kept (the arm free soonest), the others are not generated.
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     task: &mut Task,
     mut successors: Successors<'_>,
     mut relaxation: Relaxation,
+    mut symmetry: Option<Symmetry>,
     budget: &Budget,
     wanted: usize,
     improve_until: Option<Instant>,
@@ -171,6 +176,7 @@ pub fn search(
     let mut path: Vec<u32> = Vec::new();
     let mut from_preferred = false;
     let mut applicable = Vec::new();
+    let mut placements: Vec<Placement> = Vec::new();
     let mut ends_scratch = Vec::new();
     let mut restart = false;
     loop {
@@ -247,16 +253,28 @@ pub fn search(
             progress.report(&stats);
         }
         let depth = nodes[id as usize].depth + 1;
-        for action in applicable.drain(..) {
+        placements.clear();
+        for action in &applicable {
+            let (machine, _) = successors.parts();
+            match timeline.place(task, machine, &mut durations, action) {
+                Ok(placement) => placements.push(placement),
+                Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
+            }
+        }
+        let keep = match symmetry.as_mut() {
+            Some(symmetry) => {
+                let classes = symmetry.classes(task, &state);
+                symmetry.keep(&classes, &applicable, |i| placements[i].time)
+            }
+            None => Vec::new(),
+        };
+        for (i, (action, placement)) in applicable.drain(..).zip(placements.drain(..)).enumerate() {
+            if !keep.get(i).copied().unwrap_or(true) {
+                stats.symmetric += 1;
+                continue;
+            }
             let child = successors::apply(task, &state, &action);
             stats.generated += 1;
-            let placement = {
-                let (machine, _) = successors.parts();
-                match timeline.place(task, machine, &mut durations, &action) {
-                    Ok(placement) => placement,
-                    Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
-                }
-            };
             let (time, makespan) = (placement.time, timeline.makespan.max(placement.until));
             let bound = match scorer {
                 Some(_) => timeline.free_makespan.max(placement.free_until),

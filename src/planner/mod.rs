@@ -17,6 +17,7 @@ mod landmarks;
 pub mod paper;
 pub mod relaxed;
 pub mod successors;
+pub mod symmetry;
 pub mod timing;
 
 use std::time::{Duration, Instant};
@@ -85,6 +86,9 @@ pub struct Options {
     /// The least separation of two ordered snap actions, in STN time, for the heuristic
     /// search's timing of plan prefixes (the same as the temporal network's).
     pub epsilon: i64,
+    /// For the heuristic search: expand one of each set of successors that differ only by
+    /// interchangeable constants, such as idle arms ([`symmetry`]).
+    pub symmetry: bool,
 }
 
 impl Default for Options {
@@ -96,6 +100,7 @@ impl Default for Options {
             plans: 1,
             improve: None,
             epsilon: crate::ir::stn::EPSILON,
+            symmetry: true,
         }
     }
 }
@@ -121,6 +126,9 @@ pub struct Stats {
     pub peak_bytes: usize,
     /// Plan prefixes pruned because no schedule fits their durations.
     pub unschedulable: u64,
+    /// Successors not generated because another differs from them only by interchangeable
+    /// constants ([`symmetry`]).
+    pub symmetric: u64,
 }
 
 /// Which budget ran out.
@@ -218,6 +226,14 @@ pub fn program_for(kb: &Kb, problem: usize) -> Program {
     Program::new(kb, &goal_facts)
 }
 
+/// The heuristic search's interchangeable constants, if it is to use them and there are any.
+fn symmetry_for(kb: &Kb, task: &mut Task, options: &Options) -> Option<symmetry::Symmetry> {
+    if options.search != SearchKind::Heuristic || !options.symmetry {
+        return None;
+    }
+    Some(symmetry::Symmetry::new(kb, task)).filter(|s| !s.is_empty())
+}
+
 /// Runs the chosen search on `task`.
 ///
 /// Before searching, two analyses look for a proof that the problem has no solution: goal
@@ -299,6 +315,7 @@ pub fn search_scored(
             return Outcome::failed(result, before_search(1));
         }
     }
+    let symmetry = symmetry_for(kb, task, options);
     let setup = started.elapsed();
     let mut outcome = match options.search {
         SearchKind::Paper => {
@@ -318,6 +335,7 @@ pub fn search_scored(
                 task,
                 successors,
                 relaxation,
+                symmetry,
                 &options.budget,
                 wanted,
                 until,
@@ -336,10 +354,12 @@ pub fn search_scored(
                     Ok(relaxation) => relaxation,
                     Err(stop) => return Outcome::failed(stop.into(), outcome.stats),
                 };
+                let symmetry = symmetry_for(kb, task, options);
                 let mut retry = best_first::search(
                     task,
                     successors,
                     relaxation,
+                    symmetry,
                     &options.budget,
                     wanted,
                     until,

@@ -139,6 +139,8 @@ pub struct PlanSettings {
     /// The least separation of two ordered snap actions, in STN time (thousandths of a time
     /// unit): [`crate::ir::stn::EPSILON`] by default.
     pub epsilon: i64,
+    /// Prune successors that differ only by interchangeable constants (heuristic search).
+    pub symmetry: bool,
 }
 
 impl Default for PlanSettings {
@@ -155,6 +157,7 @@ impl Default for PlanSettings {
             reassign: true,
             plan_file: None,
             epsilon: crate::ir::stn::EPSILON,
+            symmetry: true,
         }
     }
 }
@@ -174,6 +177,7 @@ impl PlanSettings {
             plans: self.retries + 1,
             improve: self.improve,
             epsilon: self.epsilon,
+            symmetry: self.symmetry,
         }
     }
 
@@ -1180,10 +1184,14 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
     format!(
-        "expanded {} {}, generated {}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
+        "expanded {} {}, generated {}{}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
         if stats.expanded == 1 { "state" } else { "states" },
         stats.generated,
+        match stats.symmetric {
+            0 => String::new(),
+            n => format!(" ({n} symmetric left out)"),
+        },
         stats.evaluated,
         stats.elapsed.as_secs_f64(),
         stats.peak_bytes as f64 / 1e6,
