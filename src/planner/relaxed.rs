@@ -1324,8 +1324,8 @@ impl Relaxation {
             None => offer(self, task, bindings),
             Some(solutions) => {
                 let mut extended = bindings.to_vec();
-                for solution in solutions.iter() {
-                    for (&v, value) in unbound.iter().zip(solution.iter()) {
+                for i in 0..solutions.len() {
+                    for (&v, value) in unbound.iter().zip(cache.solution(solutions, i)) {
                         extended[v as usize] = *value;
                     }
                     offer(self, task, &extended);

@@ -148,42 +148,43 @@ pub fn cell_to_const(machine: &Machine<'_>, consts: &mut Consts, cell: Cell) -> 
     Some(consts.intern(value))
 }
 
-/// The solutions of one OnKB query: for each, the values of the OnKB variables it binds
-/// (the same number for every solution), stored in one shared allocation.
-#[derive(Clone, Debug)]
+/// The solutions of one OnKB query, kept in the cache that proved them: for each, the values
+/// of the OnKB variables it binds (the same number for every solution), read with
+/// [`OnKbCache::solution`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct OnKbSolutions {
     count: usize,
-    values: std::rc::Rc<[Option<ConstId>]>,
+    width: usize,
+    /// Where the first solution's values start in the cache's arena.
+    start: usize,
 }
 
 impl OnKbSolutions {
-    fn new(count: usize, values: Vec<Option<ConstId>>) -> OnKbSolutions {
-        OnKbSolutions { count, values: values.into() }
+    /// The number of solutions.
+    pub fn len(&self) -> usize {
+        self.count
     }
 
-    /// The solutions, in the engine's order.
-    pub fn iter(&self) -> impl Iterator<Item = &[Option<ConstId>]> {
-        let width = self.values.len().checked_div(self.count).unwrap_or(0);
-        (0..self.count).map(move |i| &self.values[i * width..(i + 1) * width])
+    /// True when the query has no solution.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
     }
 }
 
-/// A schema (and for one goal alone, the goal's index plus one; zero for the conjunction) and
-/// the values of the variables (`None` for unbound).
-type OnKbKey = (u32, u32, Box<[Option<ConstId>]>);
+/// One remembered query: a schema (and for one goal alone, the goal's index plus one; zero
+/// for the conjunction), the values of the variables (`None` for unbound) at `key..key + len`
+/// of the cache's key arena, and its solutions (`None` where a goal cannot be proven apart).
+#[derive(Clone, Copy)]
+struct Entry {
+    schema: u32,
+    goal: u32,
+    key: usize,
+    len: usize,
+    solutions: Option<OnKbSolutions>,
+}
 
 /// For each OnKB goal of a schema, the positions of its variables among the schema's.
 type GoalPositions = std::rc::Rc<[Box<[u32]>]>;
-
-/// An [`OnKbKey`] looked up without allocating one: hashes and compares as the key does.
-#[derive(Hash)]
-struct OnKbKeyRef<'a>(u32, u32, &'a [Option<ConstId>]);
-
-impl hashbrown::Equivalent<OnKbKey> for OnKbKeyRef<'_> {
-    fn equivalent(&self, key: &OnKbKey) -> bool {
-        self.0 == key.0 && self.1 == key.1 && self.2 == &*key.2
-    }
-}
 
 /// Solutions of the schemas' OnKB goals, remembered across states.
 ///
@@ -202,6 +203,9 @@ impl hashbrown::Equivalent<OnKbKey> for OnKbKeyRef<'_> {
 /// unless a later goal reads it or it shares a variable with another one the goal leaves
 /// unbound; in those cases, and when the engine stops with an error, the conjunction is
 /// proven whole instead, so the answers (and errors) are always the conjunction's.
+///
+/// Keys and solutions live in two arenas, so a cache of millions of queries (the relaxed
+/// exploration of 100 blocks asks that many) is a few large allocations, freed at once.
 #[derive(Default)]
 pub struct OnKbCache {
     /// Per schema: its OnKB variables, in order.
@@ -209,11 +213,13 @@ pub struct OnKbCache {
     /// Per schema, when its goals are proven one at a time: for each goal, the positions of
     /// its variables in the schema's `vars`.
     split: Vec<Option<GoalPositions>>,
-    /// (schema, 0, values of its OnKB variables, `None` for unbound) to solutions.
-    map: hashbrown::HashMap<OnKbKey, OnKbSolutions, rustc_hash::FxBuildHasher>,
-    /// (schema, goal + 1, values of the goal's variables) to the values of its variables in
-    /// each solution; `None` where the goal cannot be proven apart (see [`OnKbCache`]).
-    goals: hashbrown::HashMap<OnKbKey, Option<OnKbSolutions>, rustc_hash::FxBuildHasher>,
+    /// The queries proven so far, both conjunctions and single goals.
+    table: hashbrown::HashTable<Entry>,
+    /// The keys' values, end to end.
+    keys: Vec<Option<ConstId>>,
+    /// The solutions' values, end to end.
+    values: Vec<Option<ConstId>>,
+    hasher: rustc_hash::FxBuildHasher,
     /// Scratch space for a key.
     key: Vec<Option<ConstId>>,
 }
@@ -247,6 +253,9 @@ fn put_query(
     let goal = machine.put_conjunction(goals, &mut cells);
     (goal, cells.into_iter().map(|cell| cell.unwrap_or(Cell::Atom(sym::ANON))).collect())
 }
+
+/// What one engine query found: the number of solutions and their values, end to end.
+type Found = (usize, Vec<Option<ConstId>>);
 
 impl OnKbCache {
     /// A cache for `task`'s schemas.
@@ -291,8 +300,50 @@ impl OnKbCache {
         &self.vars[index]
     }
 
+    /// Solution `i` of `solutions` (which this cache gave): the values of the OnKB variables
+    /// that were unbound, in the order of [`OnKbCache::vars`].
+    pub fn solution(&self, solutions: OnKbSolutions, i: usize) -> &[Option<ConstId>] {
+        let at = solutions.start + i * solutions.width;
+        &self.values[at..at + solutions.width]
+    }
+
+    fn hash(&self, schema: u32, goal: u32, key: &[Option<ConstId>]) -> u64 {
+        use std::hash::BuildHasher;
+        self.hasher.hash_one((schema, goal, key))
+    }
+
+    /// The remembered query (schema, goal, key), if any.
+    fn find(&self, schema: u32, goal: u32, key: &[Option<ConstId>]) -> Option<Option<OnKbSolutions>> {
+        let keys = &self.keys;
+        self.table
+            .find(self.hash(schema, goal, key), |e| {
+                e.schema == schema && e.goal == goal && &keys[e.key..e.key + e.len] == key
+            })
+            .map(|e| e.solutions)
+    }
+
+    /// Stores what a query found in the arena.
+    fn store(&mut self, width: usize, (count, values): Found) -> OnKbSolutions {
+        let start = self.values.len();
+        self.values.extend_from_slice(&values);
+        OnKbSolutions { count, width, start }
+    }
+
+    /// Remembers the query (schema, goal, key), which is not yet in the table.
+    fn remember(&mut self, schema: u32, goal: u32, key: &[Option<ConstId>], solutions: Option<OnKbSolutions>) {
+        let hash = self.hash(schema, goal, key);
+        let entry = Entry { schema, goal, key: self.keys.len(), len: key.len(), solutions };
+        self.keys.extend_from_slice(key);
+        let OnKbCache { table, keys, hasher, .. } = self;
+        table.insert_unique(hash, entry, |e| {
+            use std::hash::BuildHasher;
+            hasher.hash_one((e.schema, e.goal, &keys[e.key..e.key + e.len]))
+        });
+    }
+
     /// The solutions of schema `index`'s OnKB goals under `bindings`: for each, the values of
-    /// the OnKB variables unbound in `bindings`, in the order of [`OnKbCache::vars`].
+    /// the OnKB variables unbound in `bindings`, in the order of [`OnKbCache::vars`] (read
+    /// them with [`OnKbCache::solution`]).
     pub fn solutions(
         &mut self,
         machine: &mut Machine<'_>,
@@ -304,18 +355,22 @@ impl OnKbCache {
         let mut key = std::mem::take(&mut self.key);
         key.clear();
         key.extend(self.vars[index].iter().map(|&v| bindings[v as usize]));
-        if let Some(found) = self.map.get(&OnKbKeyRef(index as u32, 0, &key)) {
-            let found = found.clone();
-            self.key = key;
-            return Ok(found);
-        }
-        let boxed: Box<[Option<ConstId>]> = key.as_slice().into();
-        self.key = key;
-        let solutions = match self.solve_split(machine, consts, schema, index, &boxed) {
-            Some(solutions) => solutions,
-            None => self.solve_whole(machine, consts, schema, index, bindings)?,
+        let solutions = match self.find(index as u32, 0, &key) {
+            Some(found) => found.expect("a conjunction always has its solutions"),
+            None => {
+                let solutions = match self.solve_split(machine, consts, schema, index, &key) {
+                    Some(solutions) => solutions,
+                    None => {
+                        let width = key.iter().filter(|v| v.is_none()).count();
+                        let found = self.solve_whole(machine, consts, schema, index, bindings)?;
+                        self.store(width, found)
+                    }
+                };
+                self.remember(index as u32, 0, &key, Some(solutions));
+                solutions
+            }
         };
-        self.map.insert((index as u32, 0, boxed), solutions.clone());
+        self.key = key;
         Ok(solutions)
     }
 
@@ -327,7 +382,7 @@ impl OnKbCache {
         schema: &Schema,
         index: usize,
         bindings: &[Option<ConstId>],
-    ) -> Result<OnKbSolutions, EngineError> {
+    ) -> Result<Found, EngineError> {
         let vars = &self.vars[index];
         let bound = vars.iter().filter_map(|&v| Some((v, bindings[v as usize]?)));
         let (goal, cells) = put_query(machine, consts, schema, &schema.on_kb, bound);
@@ -339,7 +394,7 @@ impl OnKbCache {
             count += 1;
             Next::More
         })?;
-        Ok(OnKbSolutions::new(count, values))
+        Ok((count, values))
     }
 
     /// Proves schema `index`'s OnKB goals one at a time (see [`OnKbCache`]), from the values
@@ -367,18 +422,20 @@ impl OnKbCache {
                 own.clear();
                 own.extend(positions.iter().map(|&p| values[p as usize]));
                 let goal = (g + 1) as u32;
-                let solutions = match self.goals.get(&OnKbKeyRef(index as u32, goal, &own)) {
-                    Some(found) => found.clone()?,
+                let solutions = match self.find(index as u32, goal, &own) {
+                    Some(found) => found?,
                     None => {
-                        let solved = self.solve_goal(machine, consts, schema, index, g, &own);
-                        self.goals.insert((index as u32, goal, own.as_slice().into()), solved.clone());
+                        let solved = self
+                            .solve_goal(machine, consts, schema, index, g, &own)
+                            .map(|found| self.store(positions.len(), found));
+                        self.remember(index as u32, goal, &own, solved);
                         solved?
                     }
                 };
-                for solution in solutions.iter() {
+                for s in 0..solutions.count {
                     let at = next.len();
                     next.extend_from_slice(values);
-                    for (&p, &value) in positions.iter().zip(solution.iter()) {
+                    for (&p, &value) in positions.iter().zip(self.solution(solutions, s)) {
                         next[at + p as usize] = value;
                     }
                     next_count += 1;
@@ -392,7 +449,8 @@ impl OnKbCache {
             let solution = &partial[i * width..(i + 1) * width];
             values.extend(key.iter().zip(solution).filter(|(bound, _)| bound.is_none()).map(|(_, &v)| v));
         }
-        Some(OnKbSolutions::new(count, values))
+        let unbound = key.iter().filter(|v| v.is_none()).count();
+        Some(self.store(unbound, (count, values)))
     }
 
     /// The solutions of goal `g` of schema `index` alone, from the values `own` of its
@@ -406,7 +464,7 @@ impl OnKbCache {
         index: usize,
         g: usize,
         own: &[Option<ConstId>],
-    ) -> Option<OnKbSolutions> {
+    ) -> Option<Found> {
         let split = self.split[index].as_ref().expect("a split schema");
         let vars = &self.vars[index];
         let bound = split[g].iter().zip(own.iter()).filter_map(|(&p, value)| Some((vars[p as usize], (*value)?)));
@@ -428,7 +486,7 @@ impl OnKbCache {
             count += 1;
             if apart { Next::More } else { Next::Stop }
         });
-        (outcome.is_ok() && apart).then(|| OnKbSolutions::new(count, values))
+        (outcome.is_ok() && apart).then_some((count, values))
     }
 }
 
@@ -586,9 +644,9 @@ impl<'p> Successors<'p> {
             .map_err(|error| ConditionError { schema: cx.index, error })?;
         let unbound: Vec<u32> =
             self.cache.vars(cx.index).iter().copied().filter(|&v| self.bindings[v as usize].is_none()).collect();
-        for solution in solutions.iter() {
+        for i in 0..solutions.len() {
             let mark = self.trail.len();
-            for (&v, value) in unbound.iter().zip(solution.iter()) {
+            for (&v, value) in unbound.iter().zip(self.cache.solution(solutions, i)) {
                 if let Some(value) = value {
                     self.bindings[v as usize] = Some(*value);
                     self.trail.push(v);
