@@ -273,9 +273,12 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///
 /// - `work`: every block whose goal fact is not in the initial state is moved at least once,
 ///   by one arm, in a cycle of grip, move and release that holds the arm from the grip's start
-///   to the release's end (`available/1` is the arm's resource); a block that must end on its
-///   own cell but on another block leaves the cell and comes back (a move changes the cell),
-///   two cycles. The arms share the sum: `ceil(sum / arms)`.
+///   to the release's end (`available/1` is the arm's resource). A block that must end on its
+///   own cell but on another block leaves the cell and comes back (a move changes the cell):
+///   two cycles or more, at least the least work of such a round trip over the table's cells
+///   (shortest paths, each step a cycle). (A block whose goal support starts below it and
+///   must move too needs only one: its move can lift it before the support is gripped and
+///   put it down after the support is placed.) The arms share the sum: `ceil(sum / arms)`.
 /// - `block`: one block's cycles run one after another, so the longest block's work.
 /// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
@@ -343,16 +346,52 @@ impl Rung {
             at
         };
         let (from, to) = (place(&init), place(&goal));
+        // The least work of a round trip from a cell back to it (each move changes the cell):
+        // shortest paths over the table's cells, each step a whole cycle with the KB's least
+        // durations (Floyd-Warshall), rather than assuming a neighbour is the cheapest cell.
+        let cells = self.cells();
+        let n = cells.len();
+        let mut path = vec![i64::MAX; n * n];
+        for (i, &a) in cells.iter().enumerate() {
+            for (j, &b) in cells.iter().enumerate() {
+                if i != j {
+                    path[i * n + j] = moving(session, a, b);
+                }
+            }
+        }
+        let cycle = path.clone();
+        for k in 0..n {
+            for i in (0..n).filter(|&i| i != k) {
+                let ik = path[i * n + k];
+                if ik == i64::MAX {
+                    continue;
+                }
+                for j in (0..n).filter(|&j| j != i && j != k) {
+                    let kj = path[k * n + j];
+                    if kj != i64::MAX && ik + kj < path[i * n + j] {
+                        path[i * n + j] = ik + kj;
+                    }
+                }
+            }
+        }
+        // (No other cell to go to: no round trip, and 0 is still a bound.)
+        let round_trip = |cell: (usize, usize)| -> i64 {
+            let s = cells.iter().position(|&c| c == cell).expect("a cell of the table");
+            (0..n)
+                .filter(|&m| m != s)
+                .map(|m| cycle[s * n + m].saturating_add(path[m * n + s]))
+                .min()
+                .filter(|&w| w != i64::MAX)
+                .unwrap_or(0)
+        };
         let mut works = std::collections::BTreeMap::new();
         for (&b, &(target, below)) in &to {
             let (start, was_below) = from[&b];
             let work = if (start, was_below) == (target, below) {
                 0
             } else if start == target {
-                // Off the cell to the nearest other one and back: two cycles, each at least
-                // the shortest move the KB allows from the cell.
-                let neighbour = if target.0 > 1 { (target.0 - 1, target.1) } else { (target.0 + 1, target.1) };
-                moving(session, target, neighbour) + moving(session, neighbour, target)
+                // Off the cell and back: two cycles at least.
+                round_trip(start)
             } else {
                 moving(session, start, target)
             };
