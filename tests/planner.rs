@@ -22,6 +22,14 @@ fn load(paths: &[&str]) -> Frontend {
     common::load(paths).into_parts().1
 }
 
+/// A front end on one KB text (which must check without errors).
+fn from_text(name: &str, source: String) -> Frontend {
+    let (_, frontend, diagnostics) = kbc::session::Session::from_text(name, source).into_parts();
+    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
+    assert!(errors.is_empty(), "{name}: {errors:?}");
+    frontend
+}
+
 fn problem(frontend: &Frontend, name: &str) -> usize {
     frontend.kb.problems.iter().position(|p| frontend.interner.resolve(p.name) == name).expect("the problem exists")
 }
@@ -261,10 +269,7 @@ init_state([idle(r1), idle(r2), at(p1, 1), at(p2, 2), at(p3, 3)]).
 goal_state([at(p1, 2), at(p2, 3), at(p3, 1)]).
 "
     );
-    let (_, frontend, diagnostics) = kbc::session::Session::from_text("depot.pl", source).into_parts();
-    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
-    assert!(errors.is_empty(), "{errors:?}");
-    frontend
+    from_text("depot.pl", source)
 }
 
 /// A KB whose actions' OnKB goals take every shape the goal-by-goal proof must answer as the
@@ -317,10 +322,7 @@ action(early(S, T),
 init_state([free(r1), at(1)]).
 goal_state([at(3), linked(3, 1)]).
 ";
-    let (_, frontend, diagnostics) = kbc::session::Session::from_text("shapes.pl", source.to_string()).into_parts();
-    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
-    assert!(errors.is_empty(), "{errors:?}");
-    frontend
+    from_text("shapes.pl", source.to_string())
 }
 
 #[test]
@@ -518,14 +520,6 @@ fn without_grounding_the_lifted_heuristic_still_plans() {
         let plan = outcome.result.unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));
         assert_valid(&frontend, p, &plan);
     }
-}
-
-/// A front end on one KB text (which must check without errors).
-fn from_text(name: &str, source: String) -> Frontend {
-    let (_, frontend, diagnostics) = kbc::session::Session::from_text(name, source).into_parts();
-    let errors: Vec<_> = diagnostics.iter().filter(|d| d.severity == kbc::diag::Severity::Error).collect();
-    assert!(errors.is_empty(), "{name}: {errors:?}");
-    frontend
 }
 
 /// A constant's text.

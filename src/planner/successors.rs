@@ -254,6 +254,13 @@ fn put_query(
     (goal, cells.into_iter().map(|cell| cell.unwrap_or(Cell::Atom(sym::ANON))).collect())
 }
 
+/// The hash of a remembered query (schema, goal, key), the same whether the key is looked up
+/// or read back from the arena.
+fn entry_hash(hasher: &rustc_hash::FxBuildHasher, schema: u32, goal: u32, key: &[Option<ConstId>]) -> u64 {
+    use std::hash::BuildHasher;
+    hasher.hash_one((schema, goal, key))
+}
+
 /// What one engine query found: the number of solutions and their values, end to end.
 type Found = (usize, Vec<Option<ConstId>>);
 
@@ -307,16 +314,11 @@ impl OnKbCache {
         &self.values[at..at + solutions.width]
     }
 
-    fn hash(&self, schema: u32, goal: u32, key: &[Option<ConstId>]) -> u64 {
-        use std::hash::BuildHasher;
-        self.hasher.hash_one((schema, goal, key))
-    }
-
     /// The remembered query (schema, goal, key), if any.
     fn find(&self, schema: u32, goal: u32, key: &[Option<ConstId>]) -> Option<Option<OnKbSolutions>> {
         let keys = &self.keys;
         self.table
-            .find(self.hash(schema, goal, key), |e| {
+            .find(entry_hash(&self.hasher, schema, goal, key), |e| {
                 e.schema == schema && e.goal == goal && &keys[e.key..e.key + e.len] == key
             })
             .map(|e| e.solutions)
@@ -331,14 +333,11 @@ impl OnKbCache {
 
     /// Remembers the query (schema, goal, key), which is not yet in the table.
     fn remember(&mut self, schema: u32, goal: u32, key: &[Option<ConstId>], solutions: Option<OnKbSolutions>) {
-        let hash = self.hash(schema, goal, key);
+        let hash = entry_hash(&self.hasher, schema, goal, key);
         let entry = Entry { schema, goal, key: self.keys.len(), len: key.len(), solutions };
         self.keys.extend_from_slice(key);
         let OnKbCache { table, keys, hasher, .. } = self;
-        table.insert_unique(hash, entry, |e| {
-            use std::hash::BuildHasher;
-            hasher.hash_one((e.schema, e.goal, &keys[e.key..e.key + e.len]))
-        });
+        table.insert_unique(hash, entry, |e| entry_hash(hasher, e.schema, e.goal, &keys[e.key..e.key + e.len]));
     }
 
     /// The solutions of schema `index`'s OnKB goals under `bindings`: for each, the values of
@@ -358,10 +357,11 @@ impl OnKbCache {
         let solutions = match self.find(index as u32, 0, &key) {
             Some(found) => found.expect("a conjunction always has its solutions"),
             None => {
-                let solutions = match self.solve_split(machine, consts, schema, index, &key) {
+                // Each solution gives a value to every OnKB variable unbound in the key.
+                let width = key.iter().filter(|v| v.is_none()).count();
+                let solutions = match self.solve_split(machine, consts, schema, index, &key, width) {
                     Some(solutions) => solutions,
                     None => {
-                        let width = key.iter().filter(|v| v.is_none()).count();
                         let found = self.solve_whole(machine, consts, schema, index, bindings)?;
                         self.store(width, found)
                     }
@@ -398,7 +398,8 @@ impl OnKbCache {
     }
 
     /// Proves schema `index`'s OnKB goals one at a time (see [`OnKbCache`]), from the values
-    /// `key` of its OnKB variables; `None` where the conjunction must be proven whole.
+    /// `key` of its OnKB variables (`unbound` of them `None`); `None` where the conjunction
+    /// must be proven whole.
     fn solve_split(
         &mut self,
         machine: &mut Machine<'_>,
@@ -406,6 +407,7 @@ impl OnKbCache {
         schema: &Schema,
         index: usize,
         key: &[Option<ConstId>],
+        unbound: usize,
     ) -> Option<OnKbSolutions> {
         let split = self.split[index].clone()?;
         // Partial solutions, one after the other, each a value per OnKB variable (in the
@@ -449,7 +451,6 @@ impl OnKbCache {
             let solution = &partial[i * width..(i + 1) * width];
             values.extend(key.iter().zip(solution).filter(|(bound, _)| bound.is_none()).map(|(_, &v)| v));
         }
-        let unbound = key.iter().filter(|v| v.is_none()).count();
         Some(self.store(unbound, (count, values)))
     }
 

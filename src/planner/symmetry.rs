@@ -44,7 +44,7 @@ use crate::ir::task::{Const, ConstId, FactId, Task};
 #[derive(Clone, PartialEq, Eq, Hash)]
 struct Template {
     /// 0: a state fact (`head` is its predicate id); 1: a running action (`head` is its base
-    /// name); 2: a fact of the task (`head` is its name).
+    /// name); 2: a static fact of the KB, 3: a ground goal literal (`head` is its name).
     kind: u8,
     head: u32,
     /// The arguments, with [`HOLE`] where the candidate is.
@@ -75,8 +75,6 @@ pub struct Symmetry {
     candidates: Vec<ConstId>,
     /// Candidate index by constant id (`u32::MAX`: not a candidate).
     index: Vec<u32>,
-    /// Per candidate: the task's templates (sorted ids).
-    task_signature: Vec<Vec<u32>>,
     templates: HashMap<Template, u32, FxBuildHasher>,
     /// Per fact id: what it says, once looked at.
     facts: Vec<Option<Mention>>,
@@ -166,7 +164,6 @@ impl Symmetry {
         literals.into_iter().for_each(&mut exclude);
         // A fact that holds an atom deeper than an argument, or twice, or two atoms that
         // could be candidates, excludes them.
-        let mut in_facts: FxHashSet<Symbol> = FxHashSet::default();
         for (_, literal) in &facts {
             let mut whole: Vec<Symbol> = Vec::new();
             let mut deep = Vec::new();
@@ -177,10 +174,7 @@ impl Symmetry {
             }
             excluded.extend(deep);
         }
-        for (_, literal) in &facts {
-            atoms_of(&literal.term, |s, _| _ = in_facts.insert(s));
-        }
-        if !in_facts.is_empty() {
+        if !facts.is_empty() {
             // Facts with candidates must not be where only a first solution counts.
             let reached = reachable_from_durations(kb);
             for (_, literal) in &facts {
@@ -208,8 +202,9 @@ impl Symmetry {
             atoms_of(&literal.term, |s, _| atoms.push(s));
             atoms.into_iter().for_each(|s| consider(s, task, &mut candidates));
         }
+        // Per candidate: the templates of the task's facts about it.
+        let mut task_signature: Vec<Vec<u32>> = vec![Vec::new(); candidates.len()];
         let mut symmetry = Symmetry {
-            task_signature: vec![Vec::new(); candidates.len()],
             candidates,
             index,
             templates: HashMap::default(),
@@ -223,26 +218,19 @@ impl Symmetry {
             let args: Option<Vec<ConstId>> = literal.term.args().iter().map(|a| task.consts.from_term(a)).collect();
             let Some(args) = args else { continue };
             if let Mention::One(candidate, template) = symmetry.mention(kind, name.0, &args, task) {
-                symmetry.task_signature[candidate as usize].push(template);
+                task_signature[candidate as usize].push(template);
             }
         }
-        symmetry.task_signature.iter_mut().for_each(|s| s.sort_unstable());
+        task_signature.iter_mut().for_each(|s| s.sort_unstable());
         let mut ids: FxHashMap<&[u32], u32> = FxHashMap::default();
-        let task_class: Vec<u32> = symmetry
-            .task_signature
+        symmetry.task_class = task_signature
             .iter()
             .map(|s| {
                 let next = ids.len() as u32;
                 *ids.entry(s.as_slice()).or_insert(next)
             })
             .collect();
-        symmetry.task_class = task_class;
         symmetry
-    }
-
-    /// The number of candidates.
-    pub fn len(&self) -> usize {
-        self.candidates.len()
     }
 
     /// True when no constant is a candidate (the search then prunes nothing).
