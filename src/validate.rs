@@ -595,10 +595,25 @@ impl Replayer<'_, '_> {
         if action.on_kb.is_empty() {
             solutions.push(bindings.clone());
         } else {
+            // The goals run as the planner runs them: a start or an instantaneous action is
+            // generated, so the values its step names (and its `with` bindings) are not known
+            // to them unless a Valid literal bound them; each solution must then give those
+            // values. (A goal such as `S2 \== S1` run before `S2` is bound holds.) An end
+            // takes its running start's values before its conditions.
+            let mut known = vec![action.snap == Snap::End; action.vars.len()];
+            for literal in &action.valid {
+                literal.term.for_each_var(&mut |v| {
+                    if let Some(slot) = known.get_mut(v.0 as usize) {
+                        *slot = true;
+                    }
+                });
+            }
             self.machine.reset();
             let mut cells: Vec<Option<Cell>> = vec![None; action.vars.len()];
             for (v, value) in bindings.iter().enumerate() {
-                if let Some(value) = value {
+                if let Some(value) = value
+                    && known[v]
+                {
                     cells[v] = Some(self.machine.put_term(value, &mut []));
                 }
             }
@@ -606,13 +621,12 @@ impl Replayer<'_, '_> {
             let outcome = self.machine.solve(goal, |m| {
                 let mut solution = bindings.clone();
                 for (v, cell) in cells.iter().enumerate() {
-                    if solution[v].is_none()
-                        && let Some(cell) = cell
-                    {
-                        let value = m.read(*cell, &mut Vec::new());
-                        if value.is_ground() {
-                            solution[v] = Some(value);
-                        }
+                    let value = cell.map(|cell| m.read(cell, &mut Vec::new())).filter(Term::is_ground);
+                    match (&solution[v], value) {
+                        (None, Some(value)) => solution[v] = Some(value),
+                        // A value the step names that the goals did not give: not this solution.
+                        (Some(named), value) if !known[v] && value.as_ref() != Some(named) => return Next::More,
+                        _ => {}
                     }
                 }
                 solutions.push(solution);

@@ -499,6 +499,51 @@ fn validate_text(kb: &str, text: &str, tag: &str) -> std::process::Output {
 }
 
 #[test]
+fn the_validator_runs_onkb_goals_as_the_planner_generates_a_step() {
+    // `S2 \== S1` runs before `target(P, S2)` binds S2, so it holds, as in SWI-Prolog: the
+    // planner may carry p1 from spot 1 to spot 1, and the validator must agree. With the goals
+    // the other way round the same step is refused, and so is a spot `target/2` forbids.
+    let kb = |conditions: &str| {
+        format!(
+            "resources(idle(_)).
+spot(1). spot(2). spot(3).
+target(P, S) :- spot(S), \\+ forbidden(P, S).
+forbidden(p1, 3).
+action(carry_start(R, P, S1, S2), [idle(R), at(P, S1)], [], [], {conditions},
+    [del(idle(R)), del(at(P, S1)), add(carrying(R, P, S1, S2))]).
+action(carry_end(R, P, S1, S2), [carrying(R, P, S1, S2)], [at(_, S2)], [], [],
+    [del(carrying(R, P, S1, S2)), add(at(P, S2)), add(idle(R))]).
+init_state([idle(r1), at(p1, 1)]).
+goal_state([at(p1, 2)]).
+"
+        )
+    };
+    let dir = std::env::temp_dir().join(format!("kbc-cli-onkb-order-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("writable");
+    let (first, last) = (dir.join("first.pl"), dir.join("last.pl"));
+    std::fs::write(&first, kb("[S2 \\== S1, target(P, S2)]")).expect("writable");
+    std::fs::write(&last, kb("[target(P, S2), S2 \\== S1]")).expect("writable");
+    let (first, last) = (first.to_str().expect("UTF-8 path"), last.to_str().expect("UTF-8 path"));
+    let same_spot =
+        "carry_start(r1, p1, 1, 1)\ncarry_end(r1, p1, 1, 1)\ncarry_start(r1, p1, 1, 2)\ncarry_end(r1, p1, 1, 2)\n";
+    let check = validate_text(first, same_spot, "onkb-first");
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    let check = validate_text(last, same_spot, "onkb-last");
+    assert_eq!(check.status.code(), Some(1), "{}", stderr(&check));
+    assert!(stderr(&check).contains("step 1 `carry_start(r1, p1, 1, 1)` does not apply"), "{}", stderr(&check));
+    let forbidden = "carry_start(r1, p1, 1, 3)\n";
+    let check = validate_text(first, forbidden, "onkb-forbidden");
+    assert_eq!(check.status.code(), Some(1), "{}", stderr(&check));
+    assert!(stderr(&check).contains("its OnKB goals are not provable"), "{}", stderr(&check));
+    // And the plan the search finds for the first KB is one the validator accepts.
+    let plan = kbc(&["plan", "-q", first]);
+    assert_eq!(plan.status.code(), Some(0), "{}", stderr(&plan));
+    let check = validate_text(first, &stdout(&plan), "onkb-found");
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn run_recovers_from_a_fault_and_records_it() {
     let kb = "examples/02_llm_stacking/test_case.pl";
     let dir = std::env::temp_dir().join(format!("kbc-cli-fault-{}", std::process::id()));
