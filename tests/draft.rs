@@ -4,6 +4,8 @@
 //! repaired. Also: the prompt is the paper's, nothing the model writes is run, transport
 //! failures end with a clear error, and `kbc draft eval` prints the paper's Table.
 
+#[path = "support/scratch.rs"]
+mod scratch;
 #[path = "support/llm_server.rs"]
 mod server;
 
@@ -11,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
+use scratch::Scratch;
 use server::{Reply, Server};
 
 const CASES: &str = "examples/07_llm_drafting";
@@ -41,11 +44,8 @@ fn task(case: &str) -> String {
 }
 
 /// A fresh folder for output files.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kbc-draft-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new("draft", name)
 }
 
 /// Runs `kbc draft KB --task TASK` against `server`, writing to `out`.

@@ -3,23 +3,23 @@
 
 #[path = "support/lsp_client.rs"]
 mod client;
+#[path = "support/scratch.rs"]
+mod scratch;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use client::Client;
 use kbc::lsp::position::apply_edit;
 use lsp_types::Range;
+use scratch::Scratch;
 use serde_json::{Value, json};
 
 /// A KB with one mistake: `ontabel` for `ontable` in pick_start's Valid list (warning W0002:
 /// the action can never apply).
 const KB: &str = include_str!("support/one_arm.pl");
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kbc-lsp-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch folder");
-    std::fs::canonicalize(&dir).expect("it exists")
+fn scratch(name: &str) -> Scratch {
+    Scratch::new("lsp", name)
 }
 
 fn uri(path: &Path) -> String {
