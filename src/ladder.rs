@@ -439,6 +439,11 @@ pub struct Row {
 /// [`validate::validate_timed`]. An invalid plan or schedule is a bug, reported in the row's
 /// result rather than hidden.
 pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u32>) -> Row {
+    run_with(rung, search, budget, max_depth, &PlanSettings::default())
+}
+
+/// [`run`], with the rest of the search's settings (such as `lookahead`) taken from `base`.
+pub fn run_with(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u32>, base: &PlanSettings) -> Row {
     let started = Instant::now();
     let mut db = SourceDb::new();
     let root = db.add(format!("{}.pl", rung.name()), None, rung.source());
@@ -471,7 +476,7 @@ pub fn run(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Option<u3
         max_states: budget.max_states,
         timeout: budget.deadline.map(|d| d.saturating_duration_since(Instant::now())),
         max_bytes: budget.max_bytes,
-        ..PlanSettings::default()
+        ..base.clone()
     };
     let planned = match session.plan(0, &settings, &mut Silent) {
         Ok(planned) => planned,

@@ -880,6 +880,16 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let text = stderr(&all);
     let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
     assert!(search.contains("expanded") && !search.contains("symmetric"), "{search}");
+    // With `--lookahead`, states reached by following a relaxed plan are counted; by default
+    // there are none.
+    let text = stderr(&build);
+    let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
+    assert!(search.contains("expanded") && !search.contains("lookahead"), "{search}");
+    let ahead = kbc(&["plan", "-v", "--lookahead", file]);
+    assert_eq!(ahead.status.code(), Some(0));
+    let text = stderr(&ahead);
+    let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
+    assert!(search.contains(" reached by lookahead)"), "{search}");
     // Without the flag, no table; with --quiet, a usage error.
     assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
     assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));

@@ -10,6 +10,7 @@ use clap::ValueEnum;
 use crate::ir::stn::{UNITS, format_time};
 use crate::ladder::{self, Row, Rung};
 use crate::planner::{Budget, SearchKind};
+use crate::session::PlanSettings;
 
 #[derive(clap::Args)]
 pub(super) struct BenchArgs {
@@ -34,6 +35,9 @@ pub(super) struct BenchArgs {
     /// Write each rung's goal file into this directory instead of planning.
     #[arg(long, value_name = "DIR")]
     write: Option<PathBuf>,
+    /// Run the heuristic search with its lookahead (`kbc plan --lookahead`).
+    #[arg(long)]
+    lookahead: bool,
     /// The output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
@@ -93,7 +97,8 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                 deadline: Some(Instant::now() + Duration::from_secs_f64(seconds)),
                 ..Budget::default()
             };
-            let row = ladder::run(rung, search, budget, args.max_depth);
+            let settings = PlanSettings { lookahead: args.lookahead, ..PlanSettings::default() };
+            let row = ladder::run_with(rung, search, budget, args.max_depth, &settings);
             if search == SearchKind::Heuristic && row.result.is_ok() {
                 heuristic_time = Some(row.elapsed);
             }

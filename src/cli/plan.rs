@@ -72,6 +72,11 @@ pub(super) struct PlanningArgs {
     /// each such set is kept: the one whose arm is free soonest).
     #[arg(long)]
     pub(super) no_symmetry: bool,
+    /// Jump ahead along relaxed plans: at each state with a better estimate than any before,
+    /// the heuristic search also applies the actions of its relaxed plan as far as they apply
+    /// and adds the state reached. Often much faster on large problems, with longer makespans.
+    #[arg(long)]
+    pub(super) lookahead: bool,
     /// Which plan: the high-level actions, or the arm-level actions they refine into through
     /// `mapping/2` and `ll_action/6` (with its own achievers, schedule and tree).
     #[arg(long, value_enum, default_value_t = LevelArg::High)]
@@ -196,6 +201,7 @@ impl PlanningArgs {
             plan_file: None,
             epsilon: self.epsilon,
             symmetry: !self.no_symmetry,
+            lookahead: self.lookahead,
         }
     }
 }

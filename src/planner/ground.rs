@@ -136,6 +136,8 @@ pub(super) struct GroundTask {
     action_cost: Vec<u32>,
     queue: BucketQueue,
     unreached: Vec<usize>,
+    /// Whether evaluations fill in [`Estimate::plan`].
+    pub(super) keep_plan: bool,
 }
 
 /// A priority queue of facts by cost for the Dijkstra-like evaluation, where every cost pushed
@@ -325,6 +327,7 @@ impl GroundTask {
             action_cost: Vec::new(),
             queue: BucketQueue::default(),
             unreached: Vec::new(),
+            keep_plan: false,
         };
         // An action: its schema, weight and bindings; its pair and exclusion number (`NONE`
         // for actions not split at an exclusion); its preconditions and effects.
@@ -517,7 +520,7 @@ impl GroundTask {
         if remaining_goals > 0 {
             return Estimate::default();
         }
-        let mut estimate = Estimate { h_add: Some(h_add), h_ff: None, helpful: Vec::new(), subgoals: Vec::new() };
+        let mut estimate = Estimate { h_add: Some(h_add), ..Estimate::default() };
         if plan {
             self.relaxed_plan(&reached, &mut estimate);
         }
@@ -566,7 +569,13 @@ impl GroundTask {
                 estimate.subgoals.push(fact);
                 estimate.helpful.push(Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() });
             }
+            if self.keep_plan && self.weight[a] > 0 && self.pair[a] == NONE {
+                let helpful = Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() };
+                estimate.plan.push((self.action_cost[a], helpful));
+            }
         }
+        // (A stable sort: equal costs stay in the order the plan chose them.)
+        estimate.plan.sort_by_key(|(cost, _)| *cost);
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();

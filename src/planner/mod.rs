@@ -89,6 +89,9 @@ pub struct Options {
     /// For the heuristic search: expand one of each set of successors that differ only by
     /// interchangeable constants, such as idle arms ([`symmetry`]).
     pub symmetry: bool,
+    /// For the heuristic search: at each state better than any before, follow its relaxed
+    /// plan as far as it applies and add the state reached (`best_first`'s lookahead).
+    pub lookahead: bool,
 }
 
 impl Default for Options {
@@ -101,6 +104,7 @@ impl Default for Options {
             improve: None,
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
+            lookahead: false,
         }
     }
 }
@@ -129,6 +133,11 @@ pub struct Stats {
     /// Successors not generated because another differs from them only by interchangeable
     /// constants ([`symmetry`]).
     pub symmetric: u64,
+    /// States reached by following a relaxed plan (see `best_first`'s lookahead).
+    pub looked_ahead: u64,
+    /// States not evaluated because no action applies in them (every unit of a resource
+    /// waits on another).
+    pub stuck: u64,
 }
 
 /// Which budget ran out.
@@ -336,6 +345,7 @@ pub fn search_scored(
                 successors,
                 relaxation,
                 symmetry,
+                options.lookahead,
                 &options.budget,
                 wanted,
                 until,
@@ -360,6 +370,7 @@ pub fn search_scored(
                     successors,
                     relaxation,
                     symmetry,
+                    options.lookahead,
                     &options.budget,
                     wanted,
                     until,

@@ -226,6 +226,11 @@ pub struct Estimate {
     /// applicable actions were chosen to achieve, sorted. Any applicable action that achieves
     /// one is helpful too (see [`Relaxation::achieves_subgoal`]).
     pub subgoals: Vec<u32>,
+    /// The whole relaxed plan, when the task is ground and [`Relaxation::keep_relaxed_plans`]
+    /// asked for it: its actions (but the deleting parts of split instantiations, see
+    /// [`Exclusion`]) with the sum of their preconditions' costs, cheapest first (ties in the
+    /// order the plan chose them).
+    pub plan: Vec<(u32, Helpful)>,
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.
@@ -979,6 +984,13 @@ impl Relaxation {
         Ok(())
     }
 
+    /// Makes evaluations of the ground task fill in [`Estimate::plan`] (or stop doing so).
+    pub fn keep_relaxed_plans(&mut self, keep: bool) {
+        if let Some(ground) = self.ground.as_mut() {
+            ground.keep_plan = keep;
+        }
+    }
+
     /// The number of ground actions, when grounded.
     pub fn ground_actions(&self) -> Option<usize> {
         self.ground.as_ref().map(GroundTask::action_count)
@@ -1194,7 +1206,7 @@ impl Relaxation {
         if remaining > 0 {
             return Ok(Estimate::default());
         }
-        let mut estimate = Estimate { h_add: Some(h_add), h_ff: None, helpful: Vec::new(), subgoals: Vec::new() };
+        let mut estimate = Estimate { h_add: Some(h_add), ..Estimate::default() };
         if plan {
             self.relaxed_plan(task, &reached, &mut estimate);
         }

@@ -141,6 +141,8 @@ pub struct PlanSettings {
     pub epsilon: i64,
     /// Prune successors that differ only by interchangeable constants (heuristic search).
     pub symmetry: bool,
+    /// Jump along relaxed plans from the best states so far (heuristic search).
+    pub lookahead: bool,
 }
 
 impl Default for PlanSettings {
@@ -158,6 +160,7 @@ impl Default for PlanSettings {
             plan_file: None,
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
+            lookahead: false,
         }
     }
 }
@@ -178,6 +181,7 @@ impl PlanSettings {
             improve: self.improve,
             epsilon: self.epsilon,
             symmetry: self.symmetry,
+            lookahead: self.lookahead,
         }
     }
 
@@ -1184,7 +1188,7 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
     format!(
-        "expanded {} {}, generated {}{}, evaluated {}; {:.3} s; states stored {:.1} MB{}",
+        "expanded {} {}, generated {}{}, evaluated {}{}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
         if stats.expanded == 1 { "state" } else { "states" },
         stats.generated,
@@ -1193,6 +1197,12 @@ pub fn stats_line(stats: &Stats) -> String {
             n => format!(" ({n} symmetric left out)"),
         },
         stats.evaluated,
+        match (stats.looked_ahead, stats.stuck) {
+            (0, 0) => String::new(),
+            (n, 0) => format!(" ({n} reached by lookahead)"),
+            (0, k) => format!(" ({k} more stuck: no action applies)"),
+            (n, k) => format!(" ({n} reached by lookahead; {k} more stuck: no action applies)"),
+        },
         stats.elapsed.as_secs_f64(),
         stats.peak_bytes as f64 / 1e6,
         fs::process_peak_bytes().map_or(String::new(), |b| format!(", process peak {:.1} MB", b as f64 / 1e6))
