@@ -228,6 +228,17 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
     assert_eq!(rows[0]["problem"], "build_b02_a3_s1");
     assert_eq!(rows[0]["solved"], true);
+    // `--lookahead` reaches the search: the same rung solved, by another way (deterministic).
+    let expanded = |extra: &[&str]| {
+        let mut args = vec!["bench", "--filter", "build_b10_", "--search", "heuristic", "--format", "json"];
+        args.extend_from_slice(extra);
+        let run = kbc(&args);
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+        let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
+        assert_eq!(rows[0]["solved"], true, "{rows}");
+        rows[0]["expanded"].as_u64().expect("a count")
+    };
+    assert_ne!(expanded(&[]), expanded(&["--lookahead"]));
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
 }
 
