@@ -529,11 +529,8 @@ goal_state([at(p1, 2)]).
 "
         )
     };
-    let dir = std::env::temp_dir().join(format!("kbc-cli-onkb-order-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("writable");
-    let (first, last) = (dir.join("first.pl"), dir.join("last.pl"));
-    std::fs::write(&first, kb("[S2 \\== S1, target(P, S2)]")).expect("writable");
-    std::fs::write(&last, kb("[target(P, S2), S2 \\== S1]")).expect("writable");
+    let first = scratch_file("onkb-order", "first.pl", &kb("[S2 \\== S1, target(P, S2)]"));
+    let last = scratch_file("onkb-order", "last.pl", &kb("[target(P, S2), S2 \\== S1]"));
     let (first, last) = (first.to_str().expect("UTF-8 path"), last.to_str().expect("UTF-8 path"));
     let same_spot =
         "carry_start(r1, p1, 1, 1)\ncarry_end(r1, p1, 1, 1)\ncarry_start(r1, p1, 1, 2)\ncarry_end(r1, p1, 1, 2)\n";
@@ -551,7 +548,6 @@ goal_state([at(p1, 2)]).
     assert_eq!(plan.status.code(), Some(0), "{}", stderr(&plan));
     let check = validate_text(first, &stdout(&plan), "onkb-found");
     assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

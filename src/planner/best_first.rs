@@ -36,8 +36,8 @@
 //!
 //! The optional lookahead ([`look_ahead`], YAHSP's) follows the relaxed plan of each state
 //! whose estimate beats every earlier one and adds the state it ends in to the regular list.
-//! Measured on the ladder (30 s per rung): reverse_b50 44 s -> 4 s and reverse_b75 solved,
-//! build_b50 8 s -> 1 s with half the makespan; but the plans of the reverse and grid rungs
+//! Measured on the ladder: reverse_b50 44 s -> 5 s and reverse_b75 solved in 30 s, build_b50
+//! 8 s -> 1 s with half the makespan; but the plans of the reverse and grid rungs
 //! get up to twice as long (reverse_b30 78 -> 189 after `reassign`, grid_b20 23 -> 44): a
 //! relaxed plan ignores that a cell holds one block at a time, and the chain follows it (on
 //! reverse_b20 it sends four arms' blocks to the same free cell at once, where they land one
@@ -198,7 +198,7 @@ fn look_ahead(
     timeline: &Timeline,
     durations: &mut Durations,
     state: &State,
-    plan: &[(u32, Helpful)],
+    plan: &[Helpful],
     deadline: Option<Instant>,
 ) -> Result<Chain, ConditionError> {
     let mut taken = vec![false; plan.len()];
@@ -211,7 +211,7 @@ fn look_ahead(
             break;
         }
         successors.applicable(task, &state, &mut applicable)?;
-        for (i, (_, wanted)) in plan.iter().enumerate() {
+        for (i, wanted) in plan.iter().enumerate() {
             if taken[i] {
                 continue;
             }

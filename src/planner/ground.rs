@@ -536,6 +536,8 @@ impl GroundTask {
         let mut handled = vec![false; self.nodes];
         let mut chosen = vec![false; self.schema.len()];
         let mut length = 0u32;
+        // The actions for `Estimate::plan`, when asked for.
+        let mut plan: Vec<usize> = Vec::new();
         while let Some((_, fact)) = pending.pop() {
             let f = fact as usize;
             if std::mem::replace(&mut handled[f], true) {
@@ -570,12 +572,15 @@ impl GroundTask {
                 estimate.helpful.push(Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() });
             }
             if self.keep_plan && self.weight[a] > 0 && self.pair[a] == NONE {
-                let helpful = Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() };
-                estimate.plan.push((self.action_cost[a], helpful));
+                plan.push(a);
             }
         }
         // (A stable sort: equal costs stay in the order the plan chose them.)
-        estimate.plan.sort_by_key(|(cost, _)| *cost);
+        plan.sort_by_key(|&a| self.action_cost[a]);
+        estimate.plan = plan
+            .into_iter()
+            .map(|a| Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() })
+            .collect();
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();

@@ -228,9 +228,9 @@ pub struct Estimate {
     pub subgoals: Vec<u32>,
     /// The whole relaxed plan, when the task is ground and [`Relaxation::keep_relaxed_plans`]
     /// asked for it: its actions (but the deleting parts of split instantiations, see
-    /// [`Exclusion`]) with the sum of their preconditions' costs, cheapest first (ties in the
+    /// [`Exclusion`]), cheapest first by the sum of their preconditions' costs (ties in the
     /// order the plan chose them).
-    pub plan: Vec<(u32, Helpful)>,
+    pub plan: Vec<Helpful>,
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.

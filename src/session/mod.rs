@@ -1187,6 +1187,14 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
+    // What the evaluations count apart: states the lookahead reached, and states dropped
+    // unevaluated because nothing applies in them.
+    let notes: Vec<String> =
+        [(stats.looked_ahead, "reached by lookahead"), (stats.stuck, "more stuck: no action applies")]
+            .into_iter()
+            .filter(|&(n, _)| n > 0)
+            .map(|(n, what)| format!("{n} {what}"))
+            .collect();
     format!(
         "expanded {} {}, generated {}{}, evaluated {}{}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
@@ -1197,12 +1205,7 @@ pub fn stats_line(stats: &Stats) -> String {
             n => format!(" ({n} symmetric left out)"),
         },
         stats.evaluated,
-        match (stats.looked_ahead, stats.stuck) {
-            (0, 0) => String::new(),
-            (n, 0) => format!(" ({n} reached by lookahead)"),
-            (0, k) => format!(" ({k} more stuck: no action applies)"),
-            (n, k) => format!(" ({n} reached by lookahead; {k} more stuck: no action applies)"),
-        },
+        if notes.is_empty() { String::new() } else { format!(" ({})", notes.join("; ")) },
         stats.elapsed.as_secs_f64(),
         stats.peak_bytes as f64 / 1e6,
         fs::process_peak_bytes().map_or(String::new(), |b| format!(", process peak {:.1} MB", b as f64 / 1e6))
