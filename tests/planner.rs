@@ -504,6 +504,110 @@ fn exclusion_nodes_keep_every_ground_h_add() {
     }
 }
 
+/// A courier KB whose OnKB goals call predicates defined by facts in every position the
+/// relaxation's fact filters must get right: first with both arguments bound by the body, with
+/// one argument the body leaves to the goal, with an argument repeated, with a compound
+/// argument, and after a goal that is a rule (not a filter: Prolog runs that rule first).
+fn courier() -> Frontend {
+    let source = "resources(idle(_)).
+link(s1, s2). link(s2, s3). link(s3, s4). link(s4, s1). link(s2, s4).
+loop(s3, s3).
+dock(s1, bay(north)). dock(s4, bay(south)).
+road(X, Y) :- link(X, Y).
+road(X, Y) :- link(Y, X).
+action(slide_start(R, P, S1, S2),
+    [idle(R), at(P, S1), clear(S2)],
+    [],
+    [],
+    [link(S1, S2)],
+    [del(idle(R)), del(at(P, S1)), add(clear(S1)), add(sliding(R, P, S1, S2))]).
+action(slide_end(R, P, S1, S2),
+    [sliding(R, P, S1, S2), clear(S2)],
+    [],
+    [],
+    [],
+    [del(sliding(R, P, S1, S2)), del(clear(S2)), add(at(P, S2)), add(idle(R))]).
+action(back(R, P, S1, S2),
+    [idle(R), at(P, S1), clear(S2)],
+    [],
+    [],
+    [road(S1, S2), link(S2, S1)],
+    [del(at(P, S1)), add(clear(S1)), del(clear(S2)), add(at(P, S2))]).
+action(spin(R, P, S),
+    [idle(R), at(P, S)],
+    [],
+    [],
+    [loop(S, S)],
+    [add(spun(P))]).
+action(ship(R, P, S, B),
+    [idle(R), at(P, S)],
+    [],
+    [],
+    [dock(S, bay(B))],
+    [add(shipped(P, B))]).
+init_state([idle(r1), idle(r2), at(p1, s1), at(p2, s3), clear(s2), clear(s4)]).
+goal_state([at(p1, s4), shipped(p1, south), spun(p2), at(p2, s2)]).
+";
+    from_text("courier.pl", source.to_string())
+}
+
+#[test]
+fn fact_filters_leave_the_relaxation_as_it_was() {
+    // An instantiation the join drops early because its body's values are in no fact of a
+    // leading OnKB goal is one the engine would have refused: the ground task and every
+    // estimate stay the same as with the engine asked for every instantiation.
+    let rung = Rung { family: Family::Build, blocks: 12, arms: 3, seed: 1 };
+    let (_, blocks, _) = kbc::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+    // (name, KB, the least number of filters found)
+    let cases: Vec<(&str, Frontend, usize)> = vec![
+        ("std/blocks.pl", blocks, 1),
+        ("courier", courier(), 3),
+        ("paper tests", load(&["examples/01_paper_tests/tests.pl"]), 0),
+        ("depot", depot(false), 0),
+    ];
+    for (name, frontend, least) in &cases {
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let states = random_walk(&mut task, &mut successors, 60, 3);
+        let mut relaxations = Vec::new();
+        for (filtered, ground) in [(true, false), (false, false), (true, true), (false, true)] {
+            let mut relaxation = Relaxation::new(&task);
+            if !filtered {
+                relaxation.without_fact_filters();
+            }
+            if ground {
+                let (machine, cache) = successors.parts();
+                assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
+            }
+            relaxations.push(relaxation);
+        }
+        assert_eq!(relaxations[2].ground_actions(), relaxations[3].ground_actions(), "{name}: ground actions");
+        for state in &states {
+            let (machine, cache) = successors.parts();
+            let estimates: Vec<_> = relaxations
+                .iter_mut()
+                .map(|r| r.evaluate(&mut task, state, machine, cache, true).expect("no engine error"))
+                .collect();
+            assert_eq!(estimates[0].h_add, estimates[1].h_add, "{name}: lifted h_add");
+            assert_eq!(estimates[0].h_ff, estimates[1].h_ff, "{name}: lifted h_FF");
+            assert_eq!(estimates[2].h_add, estimates[3].h_add, "{name}: ground h_add");
+            assert_eq!(estimates[2].h_ff, estimates[3].h_ff, "{name}: ground h_FF");
+        }
+        assert!(states.len() > 5, "{name}: a walk of {} states", states.len());
+        let found = relaxations[0].fact_filters();
+        assert!(found >= *least, "{name}: {found} fact filters");
+        assert_eq!(relaxations[1].fact_filters(), 0, "{name}: filters found though left out");
+    }
+    // The courier's goal needs the filtered actions (a slide along a link, a ship from a
+    // dock, a spin where a loop is): the search plans it and the plan validates.
+    let frontend = courier();
+    let problem = frontend.kb.problems.len() - 1;
+    let found = plan(&frontend, problem, SearchKind::Heuristic);
+    assert_valid(&frontend, problem, &found);
+}
+
 #[test]
 fn no_state_on_a_valid_plan_is_called_a_dead_end() {
     // Dead ends are pruned, so the relaxation with Invalid conditions must find the goal

@@ -326,6 +326,15 @@ impl Program {
     pub fn clause_count(&self, name: Symbol, arity: usize) -> usize {
         self.predicates.get(&(name, arity as u32)).map_or(0, |p| p.clauses.len())
     }
+
+    /// True if `name/arity` has clauses and every one is a fact: calling it only matches
+    /// clause heads, so it has a solution with some arguments bound only if it has one
+    /// that agrees with them when they are left unbound.
+    pub fn facts_only(&self, name: Symbol, arity: usize) -> bool {
+        self.predicates.get(&(name, arity as u32)).is_some_and(|p| {
+            !p.clauses.is_empty() && p.clauses.iter().all(|&c| self.clauses[c as usize].body.is_none())
+        })
+    }
 }
 
 /// What to do after a solution.
@@ -416,6 +425,11 @@ impl<'p> Machine<'p> {
     /// have made a cyclic term and gone on: diagnostics say so when a proof fails.
     pub fn occurs_check_failed(&self) -> bool {
         self.occurs_failed
+    }
+
+    /// The program the machine runs.
+    pub fn program(&self) -> &'p Program {
+        self.program
     }
 
     /// Clears the heap and every other stack, for a new query.

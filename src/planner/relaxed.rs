@@ -17,6 +17,11 @@
 //! `moving(A, B, X1, Y1, X2, Y2)` is read by the ends of moves as a view on `(A, B, X2, Y2)`:
 //! with 20 blocks and 22 cells this takes the joins from hundreds of thousands of
 //! instantiations per evaluation to tens of thousands.
+//!
+//! The joins also drop an instantiation as soon as its body binds the variables of a leading
+//! OnKB goal that calls a predicate defined by facts alone to values no fact has (see
+//! [`FactFilter`]): the engine would refuse it, so nothing changes but the work. Grounding
+//! build_b100_a10 took 3.3 s and 243 MB of peak memory before, 2.1 s and 163 MB after.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -28,10 +33,10 @@ use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
 use super::BudgetKind;
 use super::ground::{Auxiliary, GroundTask, RecordedAction, Source};
 use super::landmarks::{Accepted, Landmarks};
-use super::successors::{ConditionError, OnKbCache, instantiate, match_pattern, substitute, undo};
-use crate::engine::Machine;
+use super::successors::{ConditionError, OnKbCache, fact_tuples, instantiate, match_pattern, substitute, undo};
+use crate::engine::{Machine, Program};
 use crate::intern::sym;
-use crate::ir::hir::{EffectKind, Goal, Snap, Term};
+use crate::ir::hir::{EffectKind, Goal, Literal, Snap, Term};
 use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Schema, State, Task};
 use crate::ir::unify::unifiable;
 
@@ -72,7 +77,34 @@ struct Rule {
     dels: Box<[LiteralPattern]>,
     /// A body literal the ground task reads through an exclusion node (see [`Exclusion`]).
     exclusion: Option<Exclusion>,
+    /// Necessary conditions of its OnKB goals that the join checks early (see
+    /// [`FactFilter`]); found at the first exploration, which has an engine to ask.
+    filters: Vec<FactFilter>,
+    /// Per trigger position, per step of its join order (and one past the last): the
+    /// filters whose variables are all bound by then.
+    checks: Box<[FilterSteps]>,
 }
+
+/// For one join order, per step: the numbers of the filters checked there.
+type FilterSteps = Box<[Box<[u32]>]>;
+
+/// A call to a predicate defined by facts alone, among the first OnKB goals of a schema
+/// (before any other goal, so nothing runs before it): an instantiation whose body binds its
+/// variables to values no fact has cannot pass the goals, and the join drops it as soon as
+/// those variables are bound, instead of enumerating the rest of the body and asking the
+/// engine for each. In the standard blocks world, the end of a move onto a block asks
+/// `on(B, B2, X, Y)` of the problem's goal: 820,200 instantiations on a 100-block problem,
+/// of which 20 pass.
+#[derive(Debug)]
+struct FactFilter {
+    /// The goal's variables the body binds, in order.
+    vars: Box<[u32]>,
+    /// Their values in the predicate's facts.
+    tuples: FxHashSet<Box<[ConstId]>>,
+}
+
+/// The most solutions a [`FactFilter`] keeps; a predicate with more facts is not used as one.
+const FACT_FILTER_LIMIT: usize = 100_000;
 
 /// A body literal whose variables, beyond those it shares, matter only to one disequality.
 ///
@@ -264,6 +296,8 @@ pub struct Relaxation {
     /// The search's budget: every exploration (grounding included) stops with
     /// [`Stop::Budget`] at `deadline`, or once its tables take more than `max_bytes`.
     limits: Limits,
+    /// Whether the rules' [`FactFilter`]s have been looked for.
+    filtered: bool,
 }
 
 /// The time and memory an exploration may take; see [`Relaxation::limit`].
@@ -446,6 +480,7 @@ impl Relaxation {
             landmarks: None,
             limits: Limits::new(None, usize::MAX),
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
+            filtered: false,
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
         // A predicate some action deletes with an unbound variable (every fact that unifies
@@ -546,6 +581,8 @@ impl Relaxation {
                 invalid: schema.invalid.clone(),
                 dels: dels.into_boxed_slice(),
                 exclusion: None,
+                filters: Vec::new(),
+                checks: Box::default(),
             });
         }
         // A view of whole facts for each negated predicate: the facts a negative condition
@@ -593,6 +630,17 @@ impl Relaxation {
             }
         }
         relaxation
+    }
+
+    /// Leaves the join without [`FactFilter`]s: every instantiation asks the engine, the
+    /// reference the tests hold the filtered joins to.
+    pub fn without_fact_filters(&mut self) {
+        self.filtered = true;
+    }
+
+    /// The number of [`FactFilter`]s the rules have (found at the first exploration).
+    pub fn fact_filters(&self) -> usize {
+        self.rules.iter().map(|r| r.filters.len()).sum()
     }
 
     /// Grounds every rule instantiation as one action, with no exclusion nodes (see
@@ -1127,6 +1175,73 @@ impl Relaxation {
         })
     }
 
+    /// Finds each rule's [`FactFilter`]s, and the step of each join order where all of a
+    /// filter's variables are bound.
+    fn find_filters(&mut self, task: &mut Task, machine: &mut Machine<'_>) {
+        self.filtered = true;
+        let program = machine.program();
+        for r in 0..self.rules.len() {
+            let schema = &task.schemas[self.rules[r].schema as usize];
+            let schema_vars = schema.vars;
+            let mut leading = Vec::new();
+            leading_fact_calls(&schema.on_kb, program, &mut leading);
+            let mut in_body = Vec::new();
+            for literal in self.rules[r].body.iter() {
+                literal.args.iter().for_each(|a| var_occurrences(a, &mut in_body));
+            }
+            let mut filters = Vec::new();
+            for literal in leading {
+                let mut vars = Vec::new();
+                term_vars(&literal.term, &mut vars);
+                let mut kept: Vec<u32> = Vec::new();
+                for v in vars {
+                    if in_body.contains(&v) && !kept.contains(&v) {
+                        kept.push(v);
+                    }
+                }
+                if kept.is_empty() {
+                    continue;
+                }
+                if let Some(tuples) =
+                    fact_tuples(machine, &mut task.consts, schema_vars, &literal, &kept, FACT_FILTER_LIMIT)
+                {
+                    filters.push(FactFilter { vars: kept.into_boxed_slice(), tuples });
+                }
+            }
+            if filters.is_empty() {
+                continue;
+            }
+            let rule = &self.rules[r];
+            let checks = (0..rule.body.len())
+                .map(|trigger| {
+                    let order = &rule.orders[trigger];
+                    let mut bound = Vec::new();
+                    rule.body[trigger].args.iter().for_each(|a| var_occurrences(a, &mut bound));
+                    let mut placed = vec![false; filters.len()];
+                    (0..=order.len())
+                        .map(|step| {
+                            if step > 0 {
+                                let literal = &rule.body[order[step - 1].literal as usize];
+                                literal.args.iter().for_each(|a| var_occurrences(a, &mut bound));
+                            }
+                            let ready: Box<[u32]> = (0..filters.len())
+                                .filter(|&f| {
+                                    let ready = !placed[f] && filters[f].vars.iter().all(|v| bound.contains(v));
+                                    placed[f] |= ready;
+                                    ready
+                                })
+                                .map(|f| f as u32)
+                                .collect();
+                            ready
+                        })
+                        .collect()
+                })
+                .collect();
+            self.rules[r].filters = filters;
+            self.rules[r].checks = checks;
+        }
+    }
+
     fn explore(
         &mut self,
         task: &mut Task,
@@ -1137,6 +1252,9 @@ impl Relaxation {
         stop_at_goal: bool,
     ) -> Result<Estimate, Stop> {
         self.limits.exhausted = None;
+        if !self.filtered {
+            self.find_filters(task, machine);
+        }
         for table in &mut self.tables {
             table.clear();
         }
@@ -1236,7 +1354,21 @@ impl Relaxation {
             return Ok(());
         }
         let order: Box<[JoinStep]> = self.rules[rule].orders[position].clone();
-        self.join(task, machine, cache, rule, &order, 0, &mut bindings, &mut trail, cost)
+        self.join(task, machine, cache, (rule, position), &order, 0, &mut bindings, &mut trail, cost)
+    }
+
+    /// True unless one of the filters of `rule` checked at `step` of the join order of
+    /// trigger `position` rules out `bindings`.
+    fn passes(&self, rule: usize, position: usize, step: usize, bindings: &[Option<ConstId>]) -> bool {
+        let rule = &self.rules[rule];
+        let Some(checks) = rule.checks.get(position).and_then(|steps| steps.get(step)) else { return true };
+        let mut values = Vec::new();
+        checks.iter().all(|&f| {
+            let filter = &rule.filters[f as usize];
+            values.clear();
+            values.extend(filter.vars.iter().map(|&v| bindings[v as usize].expect("bound by this step")));
+            filter.tuples.contains(values.as_slice())
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -1245,13 +1377,16 @@ impl Relaxation {
         task: &mut Task,
         machine: &mut Machine<'_>,
         cache: &mut OnKbCache,
-        rule: usize,
+        (rule, position): (usize, usize),
         order: &[JoinStep],
         step: usize,
         bindings: &mut Vec<Option<ConstId>>,
         trail: &mut Vec<u32>,
         cost: u32,
     ) -> Result<(), Stop> {
+        if !self.passes(rule, position, step, bindings) {
+            return Ok(());
+        }
         let Some(&JoinStep { literal, lookup }) = order.get(step) else {
             return self.fire(task, machine, cache, rule, bindings, cost);
         };
@@ -1279,7 +1414,8 @@ impl Relaxation {
             let ok = args.iter().zip(table.tuple(u)).all(|(p, v)| match_pattern(p, *v, &task.consts, bindings, trail));
             let extra = table.cost[u as usize];
             if ok {
-                self.join(task, machine, cache, rule, order, step + 1, bindings, trail, cost.saturating_add(extra))?;
+                let at = (rule, position);
+                self.join(task, machine, cache, at, order, step + 1, bindings, trail, cost.saturating_add(extra))?;
             }
             undo(bindings, trail, mark);
         }
@@ -1840,6 +1976,30 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
         }
     }
     dropped.into_iter().filter(|(_, d)| d.iter().any(|&x| x)).map(|(pred, d)| (pred, d.into_boxed_slice())).collect()
+}
+
+/// The OnKB goals at the head of `goals` (a conjunction, read left to right into nested
+/// conjunctions) that call predicates defined by facts alone, up to the first goal that does
+/// not (nothing runs before them, so a failure of theirs is the whole conjunction's).
+/// Returns false once it has met such a goal.
+fn leading_fact_calls(goals: &[Goal], program: &Program, out: &mut Vec<Literal>) -> bool {
+    for goal in goals {
+        match goal {
+            Goal::Call(literal)
+                if !crate::builtins::is_builtin_predicate(literal.name(), literal.arity())
+                    && program.facts_only(literal.name(), literal.arity()) =>
+            {
+                out.push(literal.clone());
+            }
+            Goal::And(inner) => {
+                if !leading_fact_calls(inner, program, out) {
+                    return false;
+                }
+            }
+            _ => return false,
+        }
+    }
+    true
 }
 
 /// The join order for a rule triggered by body literal `trigger`: the other literals, most

@@ -254,6 +254,43 @@ fn put_query(
     (goal, cells.into_iter().map(|cell| cell.unwrap_or(Cell::Atom(sym::ANON))).collect())
 }
 
+/// The values the schema variables `vars` take in the solutions of `literal`, a call asked
+/// with every variable unbound (of a schema with `schema_vars` variables); `None` if a
+/// solution leaves one of them unbound, there are more than `limit` solutions, or the engine
+/// fails. For a predicate defined by facts alone ([`crate::engine::Program::facts_only`]),
+/// the literal has a solution with some of `vars` bound only if these values include theirs.
+pub fn fact_tuples(
+    machine: &mut Machine<'_>,
+    consts: &mut Consts,
+    schema_vars: usize,
+    literal: &crate::ir::hir::Literal,
+    vars: &[u32],
+    limit: usize,
+) -> Option<rustc_hash::FxHashSet<Box<[ConstId]>>> {
+    machine.reset();
+    let mut cells: Vec<Option<Cell>> = vec![None; schema_vars];
+    let goal = machine.put_term(&literal.term, &mut cells);
+    let cells: Vec<Cell> = vars.iter().map(|&v| cells[v as usize]).collect::<Option<_>>()?;
+    let mut tuples = rustc_hash::FxHashSet::default();
+    let mut complete = true;
+    machine
+        .solve(goal, |m| {
+            let tuple: Option<Box<[ConstId]>> = cells.iter().map(|&cell| cell_to_const(m, consts, cell)).collect();
+            match tuple {
+                Some(tuple) if tuples.len() < limit || tuples.contains(&tuple) => {
+                    tuples.insert(tuple);
+                    Next::More
+                }
+                _ => {
+                    complete = false;
+                    Next::Stop
+                }
+            }
+        })
+        .ok()?;
+    complete.then_some(tuples)
+}
+
 /// The hash of a remembered query (schema, goal, key), the same whether the key is looked up
 /// or read back from the arena.
 fn entry_hash(hasher: &rustc_hash::FxBuildHasher, schema: u32, goal: u32, key: &[Option<ConstId>]) -> u64 {
