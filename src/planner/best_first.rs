@@ -36,14 +36,22 @@
 //!
 //! The optional lookahead ([`look_ahead`], YAHSP's) follows the relaxed plan of each state
 //! whose estimate beats every earlier one and adds the state it ends in to the regular list.
-//! Measured on the ladder: reverse_b50 44 s -> 5 s and reverse_b75 solved in 30 s, build_b50
-//! 8 s -> 1 s with half the makespan; but the plans of the reverse and grid rungs
-//! get up to twice as long (reverse_b30 78 -> 189 after `reassign`, grid_b20 23 -> 44): a
-//! relaxed plan ignores that a cell holds one block at a time, and the chain follows it (on
-//! reverse_b20 it sends four arms' blocks to the same free cell at once, where they land one
-//! after another). Hence it is off by default. Restricting it (waiting starts skipped, the
-//! chain cut where an arm would wait, only after a plateau of 10-100 expansions) cost speed
-//! without giving the reverse rungs their makespans back.
+//! Taken cheapest first, the relaxed plan's actions gave every arm a block whose place was not
+//! ready (all grips cost nothing), and the chains ended with every arm waiting; and every
+//! block moved aside went to the one free cell the relaxation found cheapest, landing on the
+//! others there. The plan is now taken in the order its goals fall due
+//! ([`super::relaxed::Estimate::plan`]), and a step whose loose values (a detour's cell) would
+//! send it where a start of the chain is still headed takes others. Measured on the ladder
+//! (`kbc bench --search heuristic --timeout 30 --lookahead`), against the cheapest-first
+//! lookahead: build_b100_a10 solved in 15.7 s with makespan 162 (1.50x the bound; 33.9 s and
+//! 386 before, with a 120 s budget), swap_b100_a10 in 8.9 s with 193 (1.55x; 75.5 s and 874),
+//! swap_b75 in 3.0 s (1.87x; out of time), build_b50 3.32x (4.85x by default), reverse_b30
+//! 4.73x -> 3.40x. The reverse and grid rungs still get longer makespans than without it
+//! (reverse_b30 3.40x against 1.95x, grid_b20 2.62x against 1.47x: the chain follows the
+//! shortest plan, a rotation of blocks through cells one after another, where the default
+//! search finds more moves in parallel), so it is still off by default. Restricting the old
+//! one (waiting starts skipped, the chain cut where an arm would wait, only after a plateau of
+//! 10-100 expansions) had cost speed without giving the reverse rungs their makespans back.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -54,14 +62,14 @@ use hashbrown::HashTable;
 use rustc_hash::FxBuildHasher;
 
 use super::landmarks::Accepted;
-use super::relaxed::{Helpful, Relaxation};
+use super::relaxed::{Helpful, PlanAction, Relaxation};
 use super::successors::{self, Applicable, ConditionError, Successors};
 use super::symmetry::Symmetry;
 use super::timing::{Durations, Placement, Timeline};
 use super::{Budget, Failure, Outcome, Progress, Score, Stats, over_budget, plan_from};
 use crate::ir::hir::Snap;
 use crate::ir::plan::Plan;
-use crate::ir::task::{State, Task};
+use crate::ir::task::{ConstId, Pattern, State, Task};
 
 struct Node {
     /// The state, kept once the node is expanded (its children are made from it); a node
@@ -186,11 +194,45 @@ struct Chain {
     end: State,
 }
 
+/// A start the lookahead took with loose variables, until its end: its running instance, its
+/// durative action, and the values of its loose name arguments (see [`loose_values`]).
+type Headed = (ConstId, crate::intern::Symbol, Vec<(usize, ConstId)>);
+
+/// True if `action` is the relaxed plan's `wanted`, up to the unit of a resource and, with
+/// `loosely`, the variables the plan chose no particular value for ([`PlanAction::loose`]).
+fn matches_plan_step(task: &Task, wanted: &PlanAction, action: &Applicable, loosely: bool) -> bool {
+    let resource_vars = &task.schemas[action.schema].resource_vars;
+    wanted.action.schema == action.schema
+        && wanted.action.bindings.iter().zip(action.bindings.iter()).enumerate().all(|(v, (want, got))| {
+            want.is_none()
+                || want == got
+                || resource_vars.contains(&(v as u32))
+                || (loosely && wanted.loose.contains(&(v as u32)))
+        })
+}
+
+/// The values a start gives the name arguments that are its loose variables: two running
+/// actions of one durative action with the same ones are headed for the same place.
+fn loose_values(task: &Task, wanted: &PlanAction, action: &Applicable) -> Vec<(usize, ConstId)> {
+    let Pattern::Compound(_, args) = &task.schemas[action.schema].name else { return Vec::new() };
+    args.iter()
+        .enumerate()
+        .filter_map(|(position, arg)| match arg {
+            Pattern::Var(v) if wanted.loose.contains(v) => Some((position, action.bindings[*v as usize]?)),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Follows the relaxed plan from `state`, as YAHSP's lookahead does (Vidal, ICAPS 2004): of
-/// the plan's actions not yet taken, the first (cheapest) that has an applicable instance is
-/// applied, the instance the prefix's timeline places earliest (the unit of a resource free
-/// soonest), and again, until none of the plan's remaining actions applies. It stops short of
-/// a goal state, which the search recognises when it generates it, and at `deadline`.
+/// the plan's actions not yet taken, the first (in the plan's order: see [`Estimate::plan`])
+/// that has an applicable instance is applied, the instance the prefix's timeline places
+/// earliest (the unit of a resource free soonest), and again, until none of the plan's
+/// remaining actions applies. A step whose loose variables ([`PlanAction::loose`]) would
+/// send it where a start the lookahead took is still headed (the relaxed plan sends every
+/// block it moves aside to the one cheapest free cell) takes other values for them, and
+/// so does one that has no applicable instance with the plan's values. It stops short of a
+/// goal state, which the search recognises when it generates it, and at `deadline`.
 #[allow(clippy::too_many_arguments)]
 fn look_ahead(
     task: &mut Task,
@@ -198,7 +240,7 @@ fn look_ahead(
     timeline: &Timeline,
     durations: &mut Durations,
     state: &State,
-    plan: &[Helpful],
+    plan: &[PlanAction],
     deadline: Option<Instant>,
 ) -> Result<Chain, ConditionError> {
     let mut taken = vec![false; plan.len()];
@@ -206,6 +248,8 @@ fn look_ahead(
     let mut state = state.clone();
     let mut steps = Vec::new();
     let mut applicable = Vec::new();
+    // Starts taken with loose variables and not yet ended.
+    let mut headed: Vec<Headed> = Vec::new();
     'step: loop {
         if deadline.is_some_and(|deadline| Instant::now() >= deadline) {
             break;
@@ -215,24 +259,44 @@ fn look_ahead(
             if taken[i] {
                 continue;
             }
-            let mut earliest: Option<(usize, Placement)> = None;
+            // (whether it goes where a taken start is headed, whether it differs from the
+            // plan's values, its time, its index)
+            let mut best: Option<((bool, bool, i64, usize), Placement)> = None;
             for (k, action) in applicable.iter().enumerate() {
-                if !is_plan_action(task, wanted, action) {
+                let loosely = !wanted.loose.is_empty();
+                if !matches_plan_step(task, wanted, action, loosely) {
                     continue;
                 }
+                let exact = !loosely || matches_plan_step(task, wanted, action, false);
+                let crowded = loosely && {
+                    let base = task.schemas[action.schema].base;
+                    let values = loose_values(task, wanted, action);
+                    headed.iter().any(|(_, b, v)| *b == base && *v == values)
+                };
                 let (machine, _) = successors.parts();
                 let placement = timeline.place(task, machine, durations, action)?;
-                if earliest.as_ref().is_none_or(|(_, first)| placement.time < first.time) {
-                    earliest = Some((k, placement));
+                let key = (crowded, !exact, placement.time, k);
+                if best.as_ref().is_none_or(|(first, _)| key < *first) {
+                    best = Some((key, placement));
                 }
             }
-            let Some((k, placement)) = earliest else { continue };
+            let Some(((_, _, _, k), placement)) = best else { continue };
             let action = applicable.swap_remove(k);
             let next = successors::apply(task, &state, &action);
             if successors::goal_reached(task, &next) {
                 break 'step;
             }
             taken[i] = true;
+            if let Some(instance) = action.ends {
+                headed.retain(|(running, _, _)| *running != instance);
+            } else if !wanted.loose.is_empty() {
+                let schema = &task.schemas[action.schema];
+                let base = schema.base;
+                if let Some(instance) = successors::running_instance(schema, &mut task.consts, &action.bindings) {
+                    let values = loose_values(task, wanted, &action);
+                    headed.push((instance, base, values));
+                }
+            }
             let time = placement.time;
             timeline.record(task, &action, placement);
             steps.push((action, timeline.makespan, time));
@@ -608,6 +672,118 @@ pub fn search(
             preferred.clear();
             regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
             bytes = nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::Machine;
+    use crate::ladder::{Family, Rung};
+
+    /// Runs the lookahead from the initial state of `rung` (the standard blocks world) and
+    /// hands its chain to `check`, with the task.
+    fn chain_from_start(rung: Rung, check: impl FnOnce(&mut Task, &mut Successors<'_>, &Chain)) {
+        let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = crate::passes::task::build(&frontend.kb, problem);
+        let program = super::super::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut relaxation = Relaxation::new(&task);
+        let init = task.init.clone();
+        let estimate = {
+            let (machine, cache) = successors.parts();
+            assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
+            relaxation.keep_relaxed_plans(true);
+            let (estimate, _) =
+                relaxation.evaluate_for_search(&mut task, &init, machine, cache, None).expect("no engine error");
+            estimate
+        };
+        assert!(!estimate.plan.is_empty(), "{}: no relaxed plan", rung.name());
+        let chain = look_ahead(
+            &mut task,
+            &mut successors,
+            &Timeline::default(),
+            &mut Durations::default(),
+            &init,
+            &estimate.plan,
+            None,
+        )
+        .expect("no engine error");
+        check(&mut task, &mut successors, &chain);
+    }
+
+    #[test]
+    fn the_lookahead_gives_arms_to_blocks_whose_place_is_ready_first() {
+        // Taken cheapest first, the relaxed plan's grips all cost nothing, and the chain gave
+        // every arm a block whose place was not ready (the top of a tower whose base still
+        // stood elsewhere, a base whose cell another block held): a state where nothing
+        // applies. Taken in the order their goals fall due, the arms go to the blocks that
+        // ready those places, and the chain goes on (on build_b30_a6 it had ended stuck).
+        for (blocks, arms) in [(12, 4), (20, 4), (30, 6)] {
+            let rung = Rung { family: Family::Build, blocks, arms, seed: 1 };
+            chain_from_start(rung, |task, successors, chain| {
+                let mut scratch = Vec::new();
+                let stuck = stuck(task, successors, &chain.end, &mut scratch).expect("no engine error");
+                assert!(!stuck, "{}: the lookahead ends where nothing applies", rung.name());
+                assert!(chain.steps.len() >= 2 * arms, "{}: a chain of {} steps", rung.name(), chain.steps.len());
+            });
+        }
+    }
+
+    #[test]
+    fn the_lookahead_sends_blocks_it_moves_aside_to_different_cells() {
+        // Reversing a stack in place takes every block aside first; the relaxed plan sends
+        // them all to the one cheapest free cell, where they would land on one another. The
+        // lookahead sends each block moved aside while another is on its way to a free cell
+        // of its own (there are more free cells than arms here).
+        for (blocks, arms) in [(10, 4), (20, 4)] {
+            let rung = Rung { family: Family::Reverse, blocks, arms, seed: 1 };
+            chain_from_start(rung, |task, _, chain| {
+                // The cells some goal literal names (the last two arguments of `ontable/3`
+                // and `on/4`): moves there are not moves aside.
+                let goal_cells: Vec<(ConstId, ConstId)> = task
+                    .goal
+                    .iter()
+                    .filter(|l| l.args.len() >= 3)
+                    .filter_map(|l| match &l.args[l.args.len() - 2..] {
+                        [Pattern::Const(x), Pattern::Const(y)] => Some((*x, *y)),
+                        _ => None,
+                    })
+                    .collect();
+                let mut headed: Vec<(ConstId, (ConstId, ConstId))> = Vec::new();
+                let mut aside = 0;
+                for (action, _, _) in &chain.steps {
+                    if let Some(instance) = action.ends {
+                        headed.retain(|(running, _)| *running != instance);
+                        continue;
+                    }
+                    let schema = &task.schemas[action.schema];
+                    let Pattern::Compound(_, args) = &schema.name else { continue };
+                    let cell = match &args[..] {
+                        [_, _, _, _, Pattern::Var(x), Pattern::Var(y)] if schema.snap == Snap::Start => {
+                            (action.bindings[*x as usize], action.bindings[*y as usize])
+                        }
+                        _ => continue,
+                    };
+                    let (Some(x), Some(y)) = cell else { continue };
+                    if goal_cells.contains(&(x, y)) {
+                        continue;
+                    }
+                    aside += 1;
+                    assert!(
+                        headed.iter().all(|(_, other)| *other != (x, y)),
+                        "{}: two blocks on their way to the same free cell",
+                        rung.name()
+                    );
+                    let schema = &task.schemas[action.schema];
+                    let instance = successors::running_instance(schema, &mut task.consts, &action.bindings)
+                        .expect("a start has a running instance");
+                    headed.push((instance, (x, y)));
+                }
+                assert!(aside >= 2, "{}: {aside} moves aside", rung.name());
+            });
         }
     }
 }

@@ -16,7 +16,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::relaxed::{Estimate, Helpful};
+use super::relaxed::{Estimate, Helpful, PlanAction};
 use crate::ir::task::ConstId;
 
 /// One rule instantiation recorded during grounding: tuples as (view, index in view).
@@ -537,7 +537,9 @@ impl GroundTask {
         let mut chosen = vec![false; self.schema.len()];
         let mut length = 0u32;
         // The actions for `Estimate::plan`, when asked for.
-        let mut plan: Vec<usize> = Vec::new();
+        let mut plan: Vec<(usize, u32)> = Vec::new();
+        // Every action chosen, in order, with the fact it was chosen for.
+        let mut picked: Vec<(usize, u32)> = Vec::new();
         while let Some((_, fact)) = pending.pop() {
             let f = fact as usize;
             if std::mem::replace(&mut handled[f], true) {
@@ -551,6 +553,7 @@ impl GroundTask {
             if std::mem::replace(&mut chosen[a], true) {
                 continue;
             }
+            picked.push((a, fact));
             length += self.weight[a];
             for k in self.add_start[a]..self.add_start[a + 1] {
                 handled[self.add[k as usize] as usize] = true;
@@ -572,18 +575,118 @@ impl GroundTask {
                 estimate.helpful.push(Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() });
             }
             if self.keep_plan && self.weight[a] > 0 && self.pair[a] == NONE {
-                plan.push(a);
+                plan.push((a, fact));
             }
         }
-        // (A stable sort: equal costs stay in the order the plan chose them.)
-        plan.sort_by_key(|&a| self.action_cost[a]);
+        let mut detours = Vec::new();
+        if !plan.is_empty() {
+            let picked_actions: Vec<usize> = picked.iter().map(|&(a, _)| a).collect();
+            let due = self.due(&picked_actions, reached);
+            // (A stable sort: equal keys stay in the order the plan chose them.)
+            plan.sort_by_key(|&(a, _)| (due[&a], self.action_cost[a]));
+            detours = self.detours(&plan, &picked, reached);
+        }
         estimate.plan = plan
             .into_iter()
-            .map(|a| Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() })
+            .zip(detours)
+            .map(|((a, purpose), detour)| PlanAction {
+                action: Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() },
+                purpose,
+                detour,
+                loose: Box::default(),
+            })
             .collect();
         estimate.h_ff = Some(length);
         estimate.subgoals.sort_unstable();
         estimate.subgoals.dedup();
+    }
+
+    /// For each action of `plan` (with the fact it was chosen for), whether that fact is a
+    /// stop on a detour: read by the plan's actions only as a member of an exclusion node
+    /// ("somewhere other than here", such as the cell a block leaves on its last move), or
+    /// by actions chosen for such facts in turn. A block's trip to a free cell, on the way
+    /// to its place in a tower it now stands in, is one: any other free cell would do.
+    fn detours(&self, plan: &[(usize, u32)], picked: &[(usize, u32)], reached: &[u32]) -> Vec<bool> {
+        let mut readers: rustc_hash::FxHashMap<u32, Vec<(usize, bool)>> = rustc_hash::FxHashMap::default();
+        let mut purpose: rustc_hash::FxHashMap<usize, u32> = rustc_hash::FxHashMap::default();
+        for &(b, fact) in picked {
+            purpose.insert(b, fact);
+            let member = self.chosen_member(b);
+            for k in self.pre_start[b]..self.pre_start[b + 1] {
+                let (p, excluded) = match self.pre[k as usize] {
+                    p if p >= self.aux_base && member != NONE => (member, true),
+                    p => (p, false),
+                };
+                readers.entry(p).or_default().push((b, excluded));
+            }
+        }
+        fn detour(
+            fact: u32,
+            depth: u32,
+            readers: &rustc_hash::FxHashMap<u32, Vec<(usize, bool)>>,
+            purpose: &rustc_hash::FxHashMap<usize, u32>,
+            reached: &[u32],
+        ) -> bool {
+            if reached.contains(&fact) {
+                return false;
+            }
+            let Some(by) = readers.get(&fact) else { return false };
+            by.iter().all(|&(b, excluded)| {
+                excluded
+                    || (depth > 0 && purpose.get(&b).is_some_and(|&f| detour(f, depth - 1, readers, purpose, reached)))
+            })
+        }
+        plan.iter().map(|&(_, fact)| detour(fact, 4, &readers, &purpose, reached)).collect()
+    }
+
+    /// For each action a relaxed plan chose (`picked`), when what it leads to is due: the
+    /// h_add cost of the cheapest goal literal it helps reach through the chosen actions that
+    /// read what it adds, or that wait for what it deletes (`u32::MAX` if it leads to no
+    /// goal). A start that takes an arm for a block whose place is not ready (the second
+    /// block of a tower whose base is still elsewhere, or a base whose cell another block
+    /// holds) leads to a goal due later than the moves that ready it: the lookahead, which
+    /// takes the plan's actions in this order, gives its arms to those first.
+    fn due(&self, picked: &[usize], reached: &[u32]) -> rustc_hash::FxHashMap<usize, u32> {
+        let mut due: rustc_hash::FxHashMap<usize, u32> = picked.iter().map(|&a| (a, u32::MAX)).collect();
+        for &fact in reached {
+            let a = self.supporter[fact as usize];
+            if let Some(d) = due.get_mut(&(a as usize)) {
+                *d = (*d).min(self.cost[fact as usize]);
+            }
+        }
+        // Consumers cost at least what their suppliers do: from the costliest down, each
+        // passes its due to the actions that support its preconditions, and a deleting part
+        // to its adding part (twice, for the zero-cost links between actions of equal cost).
+        let mut order: Vec<usize> = picked.to_vec();
+        order.sort_by_key(|&b| std::cmp::Reverse(self.action_cost[b]));
+        for _ in 0..2 {
+            for &b in &order {
+                let at = due[&b];
+                if at == u32::MAX {
+                    continue;
+                }
+                let member = self.chosen_member(b);
+                let mut pass = |a: u32| {
+                    if let Some(d) = due.get_mut(&(a as usize)) {
+                        *d = (*d).min(at);
+                    }
+                };
+                if self.pair[b] != NONE {
+                    pass(self.pair[b]);
+                }
+                for k in self.pre_start[b]..self.pre_start[b + 1] {
+                    let p = match self.pre[k as usize] {
+                        p if p >= self.aux_base && member != NONE => member,
+                        p => p,
+                    };
+                    let a = self.supporter[p as usize];
+                    if a != NONE {
+                        pass(a);
+                    }
+                }
+            }
+        }
+        due
     }
 
     /// For a part of an instantiation split at an exclusion, chosen for the relaxed plan:

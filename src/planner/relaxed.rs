@@ -260,9 +260,26 @@ pub struct Estimate {
     pub subgoals: Vec<u32>,
     /// The whole relaxed plan, when the task is ground and [`Relaxation::keep_relaxed_plans`]
     /// asked for it: its actions (but the deleting parts of split instantiations, see
-    /// [`Exclusion`]), cheapest first by the sum of their preconditions' costs (ties in the
-    /// order the plan chose them).
-    pub plan: Vec<Helpful>,
+    /// [`Exclusion`]), those that lead to the goals due soonest first, then cheapest first by
+    /// the sum of their preconditions' costs (ties in the order the plan chose them).
+    pub plan: Vec<PlanAction>,
+}
+
+/// An action of the whole relaxed plan ([`Estimate::plan`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlanAction {
+    pub action: Helpful,
+    /// The fact node the plan chose it for.
+    pub purpose: u32,
+    /// Whether that fact is a stop on a detour (see `GroundTask::detours`).
+    pub detour: bool,
+    /// Its variables whose values only a choice made it take: bound by no Valid literal
+    /// (by an OnKB goal, such as a move's destination), where their values are not in the
+    /// fact it was chosen for, or that fact is a stop on a detour. A move that clears the
+    /// block below is chosen for `clear(B1)`, and a block's trip aside ends in a cell its next
+    /// move only has to leave; the cell is the relaxation's cheapest pick, which every such
+    /// move shares, and another free cell does as well.
+    pub loose: Box<[u32]>,
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.
@@ -298,6 +315,9 @@ pub struct Relaxation {
     limits: Limits,
     /// Whether the rules' [`FactFilter`]s have been looked for.
     filtered: bool,
+    /// Per schema (but ends), the variables no Valid literal binds (nor a resource's unit):
+    /// those its OnKB goals choose (see [`PlanAction::loose`]).
+    chosen_vars: Vec<Box<[u32]>>,
 }
 
 /// The time and memory an exploration may take; see [`Relaxation::limit`].
@@ -481,6 +501,22 @@ impl Relaxation {
             limits: Limits::new(None, usize::MAX),
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
             filtered: false,
+            chosen_vars: task
+                .schemas
+                .iter()
+                .map(|schema| {
+                    if schema.snap == Snap::End {
+                        return Box::default();
+                    }
+                    let mut bound = Vec::new();
+                    for literal in schema.valid.iter() {
+                        literal.args.iter().for_each(|a| var_occurrences(a, &mut bound));
+                    }
+                    (0..schema.vars as u32)
+                        .filter(|v| !bound.contains(v) && !schema.resource_vars.contains(v))
+                        .collect()
+                })
+                .collect(),
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
         // A predicate some action deletes with an unbound variable (every fact that unifies
@@ -1129,8 +1165,28 @@ impl Relaxation {
         }
         let start = self.state_tuples(task, state);
         let ground = self.ground.as_mut().expect("checked above");
-        let estimate = ground.evaluate(&start, true);
+        let mut estimate = ground.evaluate(&start, true);
         self.unreached = ground.unreached().iter().map(|&g| self.goal_index[g]).collect();
+        for step in &mut estimate.plan {
+            let chosen = &self.chosen_vars[step.action.schema];
+            if chosen.is_empty() {
+                continue;
+            }
+            // The values of the fact it was chosen for (none for a negation or auxiliary
+            // node: then every chosen value is kept).
+            let purpose = step.purpose;
+            let values: &[ConstId] = if (purpose as usize) < ground.tuples {
+                let view = ground.offsets.partition_point(|&o| o <= purpose) - 1;
+                self.tables[view].tuple(purpose - ground.offsets[view])
+            } else {
+                &[]
+            };
+            let bindings = &step.action.bindings;
+            let matters = chosen.iter().any(|&v| bindings[v as usize].is_some_and(|c| values.contains(&c)));
+            if (!matters || step.detour) && (purpose as usize) < ground.tuples {
+                step.loose = chosen.iter().copied().filter(|&v| bindings[v as usize].is_some()).collect();
+            }
+        }
         for &(view, t) in &start {
             ground.present[(ground.offsets[view as usize] + t) as usize] = true;
         }
