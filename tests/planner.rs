@@ -12,7 +12,7 @@ use kbc::ladder::{self, Family, Rung};
 use kbc::passes;
 use kbc::planner::relaxed::Relaxation;
 use kbc::planner::successors::{self, Successors};
-use kbc::planner::{self, Budget, Options, SearchKind, Silent};
+use kbc::planner::{self, Budget, Lookahead, Options, SearchKind, Silent};
 use kbc::session::Frontend;
 use kbc::validate::{self, PlanStep};
 
@@ -138,6 +138,45 @@ fn the_ladder_up_to_twenty_blocks_is_solved_and_every_plan_validates() {
 }
 
 #[test]
+fn by_default_the_lookahead_is_on_for_large_problems_only() {
+    // `Lookahead::Auto` decides on the search's estimate of the initial state: the rungs up
+    // to 30 blocks keep the plain search, whose makespans are shorter there on the reverse
+    // and grid rungs; from 50 blocks on, the lookahead.
+    let cases = [
+        (Family::Build, 12, 4, false),
+        (Family::Reverse, 30, 6, false),
+        (Family::Swap, 30, 6, false),
+        (Family::Build, 50, 8, true),
+        (Family::Swap, 50, 8, true),
+    ];
+    for (family, blocks, arms, large) in cases {
+        let rung = Rung { family, blocks, arms, seed: 1 };
+        let frontend = from_text("rung.pl", rung.source());
+        let mut task = passes::task::build(&frontend.kb, 0);
+        let program = planner::program_for(&frontend.kb, 0);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut relaxation = Relaxation::new(&task);
+        let (machine, cache) = successors.parts();
+        assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
+        let init = task.init.clone();
+        let (estimate, landmarks) =
+            relaxation.evaluate_for_search(&mut task, &init, machine, cache, None).expect("no engine error");
+        let h = estimate.h_ff.expect("not a dead end") + landmarks.map_or(0, |(_, count)| count);
+        assert_eq!(Lookahead::Auto.wanted(h), large, "{}: initial estimate {h}", rung.name());
+    }
+    // The decision reaches the search: on a small rung it does not look ahead unless asked.
+    let rung = Rung { family: Family::Build, blocks: 10, arms: 4, seed: 1 };
+    let frontend = from_text("rung.pl", rung.source());
+    for (mode, on) in [(Lookahead::Auto, false), (Lookahead::On, true), (Lookahead::Off, false)] {
+        let mut task = passes::task::build(&frontend.kb, 0);
+        let options = Options { budget: budget(60), lookahead: mode, ..Options::default() };
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+        assert!(outcome.result.is_ok(), "{mode:?}: no plan");
+        assert_eq!(outcome.stats.lookahead, on, "{mode:?}");
+    }
+}
+
+#[test]
 fn plans_found_with_and_without_the_lookahead_validate() {
     // The lookahead puts states on the open list that are several steps past the one
     // expanded; the validator replays every plan independently, whichever way it was found.
@@ -149,11 +188,13 @@ fn plans_found_with_and_without_the_lookahead_validate() {
     for (name, frontend) in &cases {
         for lookahead in [true, false] {
             let mut task = passes::task::build(&frontend.kb, 0);
-            let options = Options { budget: budget(60), lookahead, ..Options::default() };
+            let mode = if lookahead { Lookahead::On } else { Lookahead::Off };
+            let options = Options { budget: budget(60), lookahead: mode, ..Options::default() };
             let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
             let plan = outcome.result.unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));
             assert_valid(frontend, 0, &plan);
             stuck += outcome.stats.stuck;
+            assert_eq!(outcome.stats.lookahead, lookahead, "{name}");
             if lookahead {
                 reached += usize::from(outcome.stats.looked_ahead > 0);
             } else {

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 
+use super::plan::LookaheadArg;
 use crate::ir::stn::{UNITS, format_time};
 use crate::ladder::{self, Row, Rung};
 use crate::planner::{Budget, SearchKind};
@@ -35,9 +36,11 @@ pub(super) struct BenchArgs {
     /// Write each rung's goal file into this directory instead of planning.
     #[arg(long, value_name = "DIR")]
     write: Option<PathBuf>,
-    /// Run the heuristic search with its lookahead (`kbc plan --lookahead`).
-    #[arg(long)]
-    lookahead: bool,
+    /// When the heuristic search follows relaxed plans ahead (as `kbc plan --lookahead`;
+    /// `--lookahead` alone means `on`; `--lookahead=off` never).
+    #[arg(long, value_enum, value_name = "WHEN", num_args = 0..=1, require_equals = true, default_value_t = LookaheadArg::Auto,
+          default_missing_value = "on")]
+    lookahead: LookaheadArg,
     /// The output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
@@ -97,7 +100,7 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                 deadline: Some(Instant::now() + Duration::from_secs_f64(seconds)),
                 ..Budget::default()
             };
-            let settings = PlanSettings { lookahead: args.lookahead, ..PlanSettings::default() };
+            let settings = PlanSettings { lookahead: args.lookahead.into(), ..PlanSettings::default() };
             let row = ladder::run_with(rung, search, budget, args.max_depth, &settings);
             if search == SearchKind::Heuristic && row.result.is_ok() {
                 heuristic_time = Some(row.elapsed);

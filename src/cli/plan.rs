@@ -74,9 +74,13 @@ pub(super) struct PlanningArgs {
     pub(super) no_symmetry: bool,
     /// Jump ahead along relaxed plans: at each state with a better estimate than any before,
     /// the heuristic search also applies the actions of its relaxed plan as far as they apply
-    /// and adds the state reached. Often much faster on large problems, with longer makespans.
-    #[arg(long)]
-    pub(super) lookahead: bool,
+    /// and adds the state reached. Much faster on large problems; on some smaller ones the
+    /// makespans get longer. `auto` turns it on when the initial state's estimate (landmarks
+    /// plus h_FF, `-v` says whether it was on) is 400 or more. `--lookahead` alone means `on`;
+    /// give a value as `--lookahead=off`.
+    #[arg(long, value_enum, value_name = "WHEN", num_args = 0..=1, require_equals = true, default_value_t = LookaheadArg::Auto,
+          default_missing_value = "on")]
+    pub(super) lookahead: LookaheadArg,
     /// Which plan: the high-level actions, or the arm-level actions they refine into through
     /// `mapping/2` and `ll_action/6` (with its own achievers, schedule and tree).
     #[arg(long, value_enum, default_value_t = LevelArg::High)]
@@ -96,6 +100,27 @@ pub(super) fn parse_epsilon(text: &str) -> Result<i64, String> {
         return Err("expected a time from 0.001 to 1000".to_string());
     }
     Ok(thousandths as i64)
+}
+
+/// When the heuristic search follows relaxed plans ahead (`--lookahead`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum LookaheadArg {
+    /// On large problems (an initial estimate of 400 or more).
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+impl From<LookaheadArg> for crate::planner::Lookahead {
+    fn from(arg: LookaheadArg) -> Self {
+        match arg {
+            LookaheadArg::Auto => crate::planner::Lookahead::Auto,
+            LookaheadArg::On => crate::planner::Lookahead::On,
+            LookaheadArg::Off => crate::planner::Lookahead::Off,
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -201,7 +226,7 @@ impl PlanningArgs {
             plan_file: None,
             epsilon: self.epsilon,
             symmetry: !self.no_symmetry,
-            lookahead: self.lookahead,
+            lookahead: self.lookahead.into(),
         }
     }
 }

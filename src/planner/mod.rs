@@ -38,6 +38,37 @@ pub enum SearchKind {
     Heuristic,
 }
 
+/// When the heuristic search follows relaxed plans ahead (`best_first`'s lookahead).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Lookahead {
+    /// On large problems only: when the search's estimate of the initial state (landmarks
+    /// plus h_FF) is at least [`Lookahead::AUTO_ESTIMATE`].
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
+}
+
+impl Lookahead {
+    /// The initial estimate from which [`Lookahead::Auto`] turns the lookahead on. Measured
+    /// on the ladder: the 30-block rungs start at 270-336 and the 50-block ones at 453-560;
+    /// below, the plain search is fast and finds shorter makespans on the reverse and grid
+    /// rungs; above, it needs thousands of evaluations of a few milliseconds each, and the
+    /// lookahead solves rungs it cannot (reverse_b50, swap_b75, build_b100) in seconds.
+    pub const AUTO_ESTIMATE: u32 = 400;
+
+    /// Whether the search follows relaxed plans, given its estimate of the initial state.
+    pub fn wanted(self, initial_estimate: u32) -> bool {
+        match self {
+            Lookahead::Auto => initial_estimate >= Lookahead::AUTO_ESTIMATE,
+            Lookahead::On => true,
+            Lookahead::Off => false,
+        }
+    }
+}
+
 /// Limits on a search.
 #[derive(Clone, Copy, Debug)]
 pub struct Budget {
@@ -91,7 +122,7 @@ pub struct Options {
     pub symmetry: bool,
     /// For the heuristic search: at each state better than any before, follow its relaxed
     /// plan as far as it applies and add the state reached (`best_first`'s lookahead).
-    pub lookahead: bool,
+    pub lookahead: Lookahead,
 }
 
 impl Default for Options {
@@ -104,7 +135,7 @@ impl Default for Options {
             improve: None,
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
-            lookahead: false,
+            lookahead: Lookahead::Auto,
         }
     }
 }
@@ -133,6 +164,9 @@ pub struct Stats {
     /// Successors not generated because another differs from them only by interchangeable
     /// constants ([`symmetry`]).
     pub symmetric: u64,
+    /// Whether the heuristic search followed relaxed plans ([`Lookahead`], decided at the
+    /// initial state).
+    pub lookahead: bool,
     /// States reached by following a relaxed plan (see `best_first`'s lookahead).
     pub looked_ahead: u64,
     /// States not evaluated because no action applies in them (every unit of a resource

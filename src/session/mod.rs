@@ -141,8 +141,9 @@ pub struct PlanSettings {
     pub epsilon: i64,
     /// Prune successors that differ only by interchangeable constants (heuristic search).
     pub symmetry: bool,
-    /// Jump along relaxed plans from the best states so far (heuristic search).
-    pub lookahead: bool,
+    /// Jump along relaxed plans from the best states so far (heuristic search): on large
+    /// problems ([`planner::Lookahead::Auto`]), always or never.
+    pub lookahead: planner::Lookahead,
 }
 
 impl Default for PlanSettings {
@@ -160,7 +161,7 @@ impl Default for PlanSettings {
             plan_file: None,
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
-            lookahead: false,
+            lookahead: planner::Lookahead::Auto,
         }
     }
 }
@@ -1187,12 +1188,12 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
-    // What the evaluations count apart: states the lookahead reached, and states dropped
-    // unevaluated because nothing applies in them.
+    // What the evaluations count apart: states the lookahead reached (said whenever it was
+    // on), and states dropped unevaluated because nothing applies in them.
     let notes: Vec<String> =
         [(stats.looked_ahead, "reached by lookahead"), (stats.stuck, "more stuck: no action applies")]
             .into_iter()
-            .filter(|&(n, _)| n > 0)
+            .filter(|&(n, what)| n > 0 || (stats.lookahead && what == "reached by lookahead"))
             .map(|(n, what)| format!("{n} {what}"))
             .collect();
     format!(
