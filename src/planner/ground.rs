@@ -605,7 +605,9 @@ impl GroundTask {
     /// stop on a detour: read by the plan's actions only as a member of an exclusion node
     /// ("somewhere other than here", such as the cell a block leaves on its last move), or
     /// by actions chosen for such facts in turn. A block's trip to a free cell, on the way
-    /// to its place in a tower it now stands in, is one: any other free cell would do.
+    /// to its place in a tower it now stands in, is one: any other free cell would do. Readers
+    /// are followed through at most four actions (a detour is a move's start and end, read by
+    /// the next move: two), which also ends any cycle of supports.
     fn detours(&self, plan: &[(usize, u32)], picked: &[(usize, u32)], reached: &[u32]) -> Vec<bool> {
         let mut readers: rustc_hash::FxHashMap<u32, Vec<(usize, bool)>> = rustc_hash::FxHashMap::default();
         let mut purpose: rustc_hash::FxHashMap<usize, u32> = rustc_hash::FxHashMap::default();
@@ -636,7 +638,8 @@ impl GroundTask {
                     || (depth > 0 && purpose.get(&b).is_some_and(|&f| detour(f, depth - 1, readers, purpose, reached)))
             })
         }
-        plan.iter().map(|&(_, fact)| detour(fact, 4, &readers, &purpose, reached)).collect()
+        const DEPTH: u32 = 4;
+        plan.iter().map(|&(_, fact)| detour(fact, DEPTH, &readers, &purpose, reached)).collect()
     }
 
     /// For each action a relaxed plan chose (`picked`), when what it leads to is due: the
