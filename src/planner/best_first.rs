@@ -112,19 +112,17 @@ type Entry = Reverse<(u32, u32, i64, u32, i64, u32, u32)>;
 /// it uses: the relaxed plan picks one arm for a step where any idle arm would do, and the
 /// makespan tie-break then prefers an idle one.
 fn in_relaxed_plan(task: &Task, helpful: &[Helpful], action: &Applicable) -> bool {
-    helpful.iter().any(|h| is_plan_action(task, h, action))
+    helpful.iter().any(|h| is_plan_action(task, h, action, &[]))
 }
 
-/// True if `action` is the relaxed plan's action `wanted`, up to the unit of a resource.
-fn is_plan_action(task: &Task, wanted: &Helpful, action: &Applicable) -> bool {
+/// True if `action` is the relaxed plan's action `wanted`, up to the unit of a resource and
+/// the values of the variables `free` (a plan step's loose ones, [`PlanAction::loose`]).
+fn is_plan_action(task: &Task, wanted: &Helpful, action: &Applicable, free: &[u32]) -> bool {
     let resource_vars = &task.schemas[action.schema].resource_vars;
     wanted.schema == action.schema
-        && wanted
-            .bindings
-            .iter()
-            .zip(action.bindings.iter())
-            .enumerate()
-            .all(|(v, (want, got))| want.is_none() || want == got || resource_vars.contains(&(v as u32)))
+        && wanted.bindings.iter().zip(action.bindings.iter()).enumerate().all(|(v, (want, got))| {
+            want.is_none() || want == got || resource_vars.contains(&(v as u32)) || free.contains(&(v as u32))
+        })
 }
 
 /// True if `action` is a start whose action cannot end in `child`, the state it leads to: it
@@ -201,19 +199,6 @@ struct Chain {
 /// durative action, and the values of its loose name arguments (see [`loose_values`]).
 type Headed = (ConstId, crate::intern::Symbol, Vec<(usize, ConstId)>);
 
-/// True if `action` is the relaxed plan's `wanted`, up to the unit of a resource and, with
-/// `loosely`, the variables the plan chose no particular value for ([`PlanAction::loose`]).
-fn matches_plan_step(task: &Task, wanted: &PlanAction, action: &Applicable, loosely: bool) -> bool {
-    let resource_vars = &task.schemas[action.schema].resource_vars;
-    wanted.action.schema == action.schema
-        && wanted.action.bindings.iter().zip(action.bindings.iter()).enumerate().all(|(v, (want, got))| {
-            want.is_none()
-                || want == got
-                || resource_vars.contains(&(v as u32))
-                || (loosely && wanted.loose.contains(&(v as u32)))
-        })
-}
-
 /// The values a start gives the name arguments that are its loose variables: two running
 /// actions of one durative action with the same ones are headed for the same place.
 fn loose_values(task: &Task, wanted: &PlanAction, action: &Applicable) -> Vec<(usize, ConstId)> {
@@ -267,10 +252,10 @@ fn look_ahead(
             let mut best: Option<((bool, bool, i64, usize), Placement)> = None;
             for (k, action) in applicable.iter().enumerate() {
                 let loosely = !wanted.loose.is_empty();
-                if !matches_plan_step(task, wanted, action, loosely) {
+                if !is_plan_action(task, &wanted.action, action, &wanted.loose) {
                     continue;
                 }
-                let exact = !loosely || matches_plan_step(task, wanted, action, false);
+                let exact = !loosely || is_plan_action(task, &wanted.action, action, &[]);
                 let crowded = loosely && {
                     let base = task.schemas[action.schema].base;
                     let values = loose_values(task, wanted, action);

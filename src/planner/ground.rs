@@ -561,12 +561,7 @@ impl GroundTask {
             let member = self.chosen_member(a);
             self.handle_other_part(a, member, &mut handled);
             let mut first_layer = true;
-            for k in self.pre_start[a]..self.pre_start[a + 1] {
-                // An exclusion node stands for the tuple chosen for it.
-                let p = match self.pre[k as usize] {
-                    p if p >= self.aux_base && member != NONE => member,
-                    p => p,
-                };
+            for (p, _) in self.chosen_preconditions(a, member) {
                 first_layer &= self.cost[p as usize] == 0;
                 pending.push((self.cost[p as usize], p));
             }
@@ -613,12 +608,7 @@ impl GroundTask {
         let mut purpose: rustc_hash::FxHashMap<usize, u32> = rustc_hash::FxHashMap::default();
         for &(b, fact) in picked {
             purpose.insert(b, fact);
-            let member = self.chosen_member(b);
-            for k in self.pre_start[b]..self.pre_start[b + 1] {
-                let (p, excluded) = match self.pre[k as usize] {
-                    p if p >= self.aux_base && member != NONE => (member, true),
-                    p => (p, false),
-                };
+            for (p, excluded) in self.chosen_preconditions(b, self.chosen_member(b)) {
                 readers.entry(p).or_default().push((b, excluded));
             }
         }
@@ -677,11 +667,7 @@ impl GroundTask {
                 if self.pair[b] != NONE {
                     pass(self.pair[b]);
                 }
-                for k in self.pre_start[b]..self.pre_start[b + 1] {
-                    let p = match self.pre[k as usize] {
-                        p if p >= self.aux_base && member != NONE => member,
-                        p => p,
-                    };
+                for (p, _) in self.chosen_preconditions(b, member) {
                     let a = self.supporter[p as usize];
                     if a != NONE {
                         pass(a);
@@ -718,6 +704,15 @@ impl GroundTask {
                 mark(d as usize, handled);
             }
         }
+    }
+
+    /// The preconditions of action `a` as the relaxed plan reads them, each with whether it
+    /// is read through an exclusion node: such a node stands for `member`, the tuple chosen
+    /// for it ([`GroundTask::chosen_member`]).
+    fn chosen_preconditions(&self, a: usize, member: u32) -> impl Iterator<Item = (u32, bool)> + '_ {
+        self.pre[self.pre_start[a] as usize..self.pre_start[a + 1] as usize]
+            .iter()
+            .map(move |&p| if p >= self.aux_base && member != NONE { (member, true) } else { (p, false) })
     }
 
     /// For an action that reads an exclusion node, the tuple the relaxed plan takes for it:

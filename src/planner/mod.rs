@@ -56,7 +56,8 @@ impl Lookahead {
     /// on the ladder: the 30-block rungs start at 270-336 and the 50-block ones at 453-560;
     /// below, the plain search is fast and finds shorter makespans on the reverse and grid
     /// rungs; above, it needs thousands of evaluations of a few milliseconds each, and the
-    /// lookahead solves rungs it cannot (reverse_b50, swap_b75, build_b100) in seconds.
+    /// lookahead solves rungs it cannot in the ladder's 30 s (reverse_b50 in 3.3 s, swap_b75
+    /// in 3.2 s, build_b100_a10 in 14.8 s).
     pub const AUTO_ESTIMATE: u32 = 400;
 
     /// Whether the search follows relaxed plans, given its estimate of the initial state.

@@ -36,7 +36,7 @@ use super::landmarks::{Accepted, Landmarks};
 use super::successors::{ConditionError, OnKbCache, fact_tuples, instantiate, match_pattern, substitute, undo};
 use crate::engine::{Machine, Program};
 use crate::intern::sym;
-use crate::ir::hir::{EffectKind, Goal, Literal, Snap, Term};
+use crate::ir::hir::{EffectKind, Goal, Snap, Term};
 use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Schema, State, Task};
 use crate::ir::unify::unifiable;
 
@@ -1237,8 +1237,8 @@ impl Relaxation {
         self.filtered = true;
         let program = machine.program();
         for r in 0..self.rules.len() {
-            let schema = &task.schemas[self.rules[r].schema as usize];
-            let schema_vars = schema.vars;
+            let Task { schemas, consts, .. } = &mut *task;
+            let schema = &schemas[self.rules[r].schema as usize];
             let mut leading = Vec::new();
             leading_fact_calls(&schema.on_kb, program, &mut leading);
             let mut in_body = Vec::new();
@@ -1246,9 +1246,9 @@ impl Relaxation {
                 literal.args.iter().for_each(|a| var_occurrences(a, &mut in_body));
             }
             let mut filters = Vec::new();
-            for literal in leading {
+            for goal in leading {
                 let mut vars = Vec::new();
-                term_vars(&literal.term, &mut vars);
+                goal.for_each_call(&mut |l| term_vars(&l.term, &mut vars));
                 let mut kept: Vec<u32> = Vec::new();
                 for v in vars {
                     if in_body.contains(&v) && !kept.contains(&v) {
@@ -1258,9 +1258,7 @@ impl Relaxation {
                 if kept.is_empty() {
                     continue;
                 }
-                if let Some(tuples) =
-                    fact_tuples(machine, &mut task.consts, schema_vars, &literal, &kept, FACT_FILTER_LIMIT)
-                {
+                if let Some(tuples) = fact_tuples(machine, consts, schema, &goal, &kept, FACT_FILTER_LIMIT) {
                     filters.push(FactFilter { vars: kept.into_boxed_slice(), tuples });
                 }
             }
@@ -2038,14 +2036,14 @@ fn resource_positions(task: &Task) -> FxHashMap<PredId, Box<[bool]>> {
 /// conjunctions) that call predicates defined by facts alone, up to the first goal that does
 /// not (nothing runs before them, so a failure of theirs is the whole conjunction's).
 /// Returns false once it has met such a goal.
-fn leading_fact_calls(goals: &[Goal], program: &Program, out: &mut Vec<Literal>) -> bool {
+fn leading_fact_calls(goals: &[Goal], program: &Program, out: &mut Vec<Goal>) -> bool {
     for goal in goals {
         match goal {
             Goal::Call(literal)
                 if !crate::builtins::is_builtin_predicate(literal.name(), literal.arity())
                     && program.facts_only(literal.name(), literal.arity()) =>
             {
-                out.push(literal.clone());
+                out.push(goal.clone());
             }
             Goal::And(inner) => {
                 if !leading_fact_calls(inner, program, out) {

@@ -254,23 +254,21 @@ fn put_query(
     (goal, cells.into_iter().map(|cell| cell.unwrap_or(Cell::Atom(sym::ANON))).collect())
 }
 
-/// The values the schema variables `vars` take in the solutions of `literal`, a call asked
-/// with every variable unbound (of a schema with `schema_vars` variables); `None` if a
-/// solution leaves one of them unbound, there are more than `limit` solutions, or the engine
-/// fails. For a predicate defined by facts alone ([`crate::engine::Program::facts_only`]),
-/// the literal has a solution with some of `vars` bound only if these values include theirs.
+/// The values the variables `vars` take in the solutions of `goal` (an OnKB goal of `schema`
+/// that calls one predicate), asked with every variable unbound; `None` if a solution leaves
+/// one of them unbound, there are more than `limit` solutions, or the engine fails. For a
+/// predicate defined by facts alone ([`crate::engine::Program::facts_only`]), the goal has a
+/// solution with some of `vars` bound only if these values include theirs.
 pub fn fact_tuples(
     machine: &mut Machine<'_>,
     consts: &mut Consts,
-    schema_vars: usize,
-    literal: &crate::ir::hir::Literal,
+    schema: &Schema,
+    goal: &Goal,
     vars: &[u32],
     limit: usize,
 ) -> Option<rustc_hash::FxHashSet<Box<[ConstId]>>> {
-    machine.reset();
-    let mut cells: Vec<Option<Cell>> = vec![None; schema_vars];
-    let goal = machine.put_term(&literal.term, &mut cells);
-    let cells: Vec<Cell> = vars.iter().map(|&v| cells[v as usize]).collect::<Option<_>>()?;
+    let (goal, cells) = put_query(machine, consts, schema, std::slice::from_ref(goal), std::iter::empty());
+    let cells: Vec<Cell> = vars.iter().map(|&v| cells[v as usize]).collect();
     let mut tuples = rustc_hash::FxHashSet::default();
     let mut complete = true;
     machine

@@ -1190,12 +1190,14 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 pub fn stats_line(stats: &Stats) -> String {
     // What the evaluations count apart: states the lookahead reached (said whenever it was
     // on), and states dropped unevaluated because nothing applies in them.
-    let notes: Vec<String> =
-        [(stats.looked_ahead, "reached by lookahead"), (stats.stuck, "more stuck: no action applies")]
-            .into_iter()
-            .filter(|&(n, what)| n > 0 || (stats.lookahead && what == "reached by lookahead"))
-            .map(|(n, what)| format!("{n} {what}"))
-            .collect();
+    let notes: Vec<String> = [
+        (stats.looked_ahead, "reached by lookahead", stats.lookahead),
+        (stats.stuck, "more stuck: no action applies", false),
+    ]
+    .into_iter()
+    .filter(|&(n, _, always)| n > 0 || always)
+    .map(|(n, what, _)| format!("{n} {what}"))
+    .collect();
     format!(
         "expanded {} {}, generated {}{}, evaluated {}{}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
