@@ -535,6 +535,7 @@ impl GroundTask {
         // Facts already handled (or added by a chosen action), and chosen actions.
         let mut handled = vec![false; self.nodes];
         let mut chosen = vec![false; self.schema.len()];
+        let mut planned = vec![false; self.schema.len()];
         let mut length = 0u32;
         // The actions for `Estimate::plan`, when asked for.
         let mut plan: Vec<(usize, u32)> = Vec::new();
@@ -569,8 +570,12 @@ impl GroundTask {
                 estimate.subgoals.push(fact);
                 estimate.helpful.push(Helpful { schema: self.schema[a] as usize, bindings: self.bindings[a].clone() });
             }
-            if self.keep_plan && self.weight[a] > 0 && self.pair[a] == NONE {
-                plan.push((a, fact));
+            // A part split at an exclusion stands for its whole instantiation, which the
+            // plan names by its adding part (a block's move off the cell another needs is
+            // chosen for the deletion, through its deleting part).
+            let whole = if self.pair[a] == NONE { a } else { self.pair[a] as usize };
+            if self.keep_plan && self.weight[a] > 0 && !std::mem::replace(&mut planned[whole], true) {
+                plan.push((whole, fact));
             }
         }
         let mut detours = Vec::new();
@@ -640,7 +645,11 @@ impl GroundTask {
     /// holds) leads to a goal due later than the moves that ready it: the lookahead, which
     /// takes the plan's actions in this order, gives its arms to those first.
     fn due(&self, picked: &[usize], reached: &[u32]) -> rustc_hash::FxHashMap<usize, u32> {
-        let mut due: rustc_hash::FxHashMap<usize, u32> = picked.iter().map(|&a| (a, u32::MAX)).collect();
+        let mut due: rustc_hash::FxHashMap<usize, u32> = picked
+            .iter()
+            .flat_map(|&a| [a, if self.pair[a] == NONE { a } else { self.pair[a] as usize }])
+            .map(|a| (a, u32::MAX))
+            .collect();
         for &fact in reached {
             let a = self.supporter[fact as usize];
             if let Some(d) = due.get_mut(&(a as usize)) {
