@@ -69,10 +69,10 @@
 //! free, the end of a start it sent elsewhere than the plan said matches the plan's end for
 //! it ([`rebound_vars`]), and a chain that ends in a dead end is cut back to its longest live
 //! prefix ([`longest_live_prefix`]); that state is taken if it is better than the start.
-//! Care is not the default: giving arms back and cutting dead chains back on the build and
-//! swap rungs led the search into states where every arm waits on another (swap_b75 from 36
-//! expansions to 3632), and trying the careful chain where the plain one is dead did too
-//! (712). Measured on the ladder (`kbc bench --search heuristic --timeout 30`, rungs of 50
+//! Care is not the default: on the build and swap rungs it led the search into states where
+//! every arm waits on another (swap_b75: 36 expansions; cutting dead chains back, 3632;
+//! giving arms back as well, unsolved in 30 s), and so did trying the careful chain where
+//! the plain one is dead (712). Measured on the ladder (`kbc bench --search heuristic --timeout 30`, rungs of 50
 //! blocks and more, where the lookahead is on), against the lookahead before these changes:
 //! build_b100_a10 14.8 s -> 3.4 s (1.50x -> 1.44x the bound), build_b100_a8 22.2 -> 4.9 s
 //! (1.74x -> 1.66x), reverse_b100_a10 unsolved -> 4.2 s (4.38x), reverse_b100_a8 29.1 -> 5.0
@@ -174,6 +174,11 @@ fn idles(
         }
     }
     Ok(!scratch.iter().any(|a| a.ends == Some(instance)))
+}
+
+/// The goal literals that are units of a resource (`available(a1)`).
+fn resource_goals(task: &Task) -> Vec<usize> {
+    (0..task.goal.len()).filter(|&g| task.resource_goal[g]).collect()
 }
 
 /// True if one of the goal's resource units (`available(a1)`, `resource_goals` are their goal
@@ -300,7 +305,6 @@ fn look_ahead(
 ) -> Result<Chain, ConditionError> {
     let mut taken = vec![false; plan.len()];
     let mut timeline = timeline.clone();
-    let mut state = state.clone();
     let mut steps = Vec::new();
     let mut states = Vec::new();
     let mut applicable = Vec::new();
@@ -308,14 +312,15 @@ fn look_ahead(
     // Starts taken with loose variables and not yet ended.
     let mut headed: Vec<Headed> = Vec::new();
     let gives_back = gives_back_units(task);
-    let resource_goals: Vec<usize> = (0..task.goal.len()).filter(|&g| task.resource_goal[g]).collect();
+    let resource_goals = resource_goals(task);
     // (Each give-back step undoes a step of the plan's, so there are at most as many.)
     let mut give_backs_left = plan.len();
-    'step: loop {
+    loop {
         if deadline.is_some_and(|deadline| Instant::now() >= deadline) {
             break;
         }
-        successors.applicable(task, &state, &mut applicable)?;
+        let current = states.last().unwrap_or(state);
+        successors.applicable(task, current, &mut applicable)?;
         // Per applicable action: for the end of a start taken with other values than the
         // plan's, the variables that hold them, which the plan's end step names as it
         // planned them (the cell a block moved aside was to land on).
@@ -323,6 +328,9 @@ fn look_ahead(
             .iter()
             .map(|action| if careful { rebound_vars(task, &headed, action) } else { Vec::new() })
             .collect();
+        // The step: the plan's action it takes (none for a give-back step), the applicable
+        // action's index, its placement.
+        let mut chosen: Option<(Option<usize>, usize, Placement)> = None;
         for (i, wanted) in plan.iter().enumerate() {
             if taken[i] {
                 continue;
@@ -344,7 +352,7 @@ fn look_ahead(
                 };
                 // Carefully, no start that would hold its arm waiting once no arm is free.
                 if careful && task.schemas[action.schema].snap == Snap::Start {
-                    let child = successors::apply(task, &state, action);
+                    let child = successors::apply(task, current, action);
                     if !any_unit_free(task, &resource_goals, &child)
                         && idles(task, successors, &child, action, &mut scratch)?
                     {
@@ -358,16 +366,44 @@ fn look_ahead(
                     best = Some((key, placement));
                 }
             }
-            let Some(((_, _, _, k), placement)) = best else { continue };
-            let action = applicable.swap_remove(k);
-            let next = successors::apply(task, &state, &action);
-            if successors::goal_reached(task, &next) {
-                break 'step;
+            if let Some(((_, _, _, k), placement)) = best {
+                chosen = Some((Some(i), k, placement));
+                break;
             }
+        }
+        // None of the plan's steps applies. The relaxed plan never gives a unit of a resource
+        // back (every unit is free from the start there), so when the arms all hold blocks
+        // already put down, the chain releases one, the one the timeline frees soonest.
+        if chosen.is_none() && careful && give_backs_left > 0 {
+            let mut best: Option<((i64, usize), Placement)> = None;
+            for (k, action) in applicable.iter().enumerate() {
+                if !gives_back[action.schema] {
+                    continue;
+                }
+                let (machine, _) = successors.parts();
+                let placement = timeline.place(task, machine, durations, action)?;
+                if best.as_ref().is_none_or(|(key, _)| (placement.time, k) < *key) {
+                    best = Some(((placement.time, k), placement));
+                }
+            }
+            if let Some(((_, k), placement)) = best {
+                give_backs_left -= 1;
+                chosen = Some((None, k, placement));
+            }
+        }
+        let Some((step, k, placement)) = chosen else { break };
+        let action = applicable.swap_remove(k);
+        let next = successors::apply(task, current, &action);
+        if successors::goal_reached(task, &next) {
+            break;
+        }
+        if let Some(instance) = action.ends {
+            headed.retain(|(running, _, _)| *running != instance);
+        }
+        if let Some(i) = step {
             taken[i] = true;
-            if let Some(instance) = action.ends {
-                headed.retain(|(running, _, _)| *running != instance);
-            } else if !wanted.loose.is_empty() {
+            let wanted = &plan[i];
+            if action.ends.is_none() && !wanted.loose.is_empty() {
                 let schema = &task.schemas[action.schema];
                 let base = schema.base;
                 if let Some(instance) = successors::running_instance(schema, &mut task.consts, &action.bindings) {
@@ -375,44 +411,11 @@ fn look_ahead(
                     headed.push((instance, base, values));
                 }
             }
-            let time = placement.time;
-            timeline.record(task, &action, placement);
-            steps.push((action, timeline.makespan, time));
-            states.push(next.clone());
-            state = next;
-            continue 'step;
         }
-        // None of the plan's steps applies. The relaxed plan never gives a unit of a resource
-        // back (every unit is free from the start there), so when the arms all hold blocks
-        // already put down, the chain releases one, the one the timeline frees soonest.
-        if !careful || give_backs_left == 0 {
-            break;
-        }
-        let mut best: Option<((i64, usize), Placement)> = None;
-        for (k, action) in applicable.iter().enumerate() {
-            if !gives_back[action.schema] {
-                continue;
-            }
-            let (machine, _) = successors.parts();
-            let placement = timeline.place(task, machine, durations, action)?;
-            if best.as_ref().is_none_or(|(key, _)| (placement.time, k) < *key) {
-                best = Some(((placement.time, k), placement));
-            }
-        }
-        let Some(((time, k), placement)) = best else { break };
-        let action = applicable.swap_remove(k);
-        let next = successors::apply(task, &state, &action);
-        if successors::goal_reached(task, &next) {
-            break;
-        }
-        give_backs_left -= 1;
-        if let Some(instance) = action.ends {
-            headed.retain(|(running, _, _)| *running != instance);
-        }
+        let time = placement.time;
         timeline.record(task, &action, placement);
         steps.push((action, timeline.makespan, time));
-        states.push(next.clone());
-        state = next;
+        states.push(next);
     }
     Ok(Chain { steps, states })
 }
@@ -546,7 +549,7 @@ pub fn search(
     let mut placements: Vec<Placement> = Vec::new();
     let mut ends_scratch = Vec::new();
     let mut restart = false;
-    let resource_goals: Vec<usize> = (0..task.goal.len()).filter(|&g| task.resource_goal[g]).collect();
+    let resource_goals = resource_goals(task);
     // The lowest estimate of any state evaluated so far.
     let mut best_h = u32::MAX;
     loop {
@@ -766,7 +769,7 @@ pub fn search(
         // not end in a better state is followed again, carefully (see [`look_ahead`]).
         if lookahead && progressed && best.is_none() && !restart {
             let accepted = nodes[id as usize].accepted.clone();
-            let mut taken: Option<(Chain, usize, (u32, u32))> = None;
+            let mut taken: Option<(Chain, usize, ChainEstimate)> = None;
             for careful in [false, true] {
                 let chain = match look_ahead(
                     task,

@@ -573,7 +573,7 @@ impl GroundTask {
             // A part split at an exclusion stands for its whole instantiation, which the
             // plan names by its adding part (a block's move off the cell another needs is
             // chosen for the deletion, through its deleting part).
-            let whole = if self.pair[a] == NONE { a } else { self.pair[a] as usize };
+            let whole = self.whole(a);
             if self.keep_plan && self.weight[a] > 0 && !std::mem::replace(&mut planned[whole], true) {
                 plan.push((whole, fact));
             }
@@ -645,11 +645,8 @@ impl GroundTask {
     /// holds) leads to a goal due later than the moves that ready it: the lookahead, which
     /// takes the plan's actions in this order, gives its arms to those first.
     fn due(&self, picked: &[usize], reached: &[u32]) -> rustc_hash::FxHashMap<usize, u32> {
-        let mut due: rustc_hash::FxHashMap<usize, u32> = picked
-            .iter()
-            .flat_map(|&a| [a, if self.pair[a] == NONE { a } else { self.pair[a] as usize }])
-            .map(|a| (a, u32::MAX))
-            .collect();
+        let mut due: rustc_hash::FxHashMap<usize, u32> =
+            picked.iter().flat_map(|&a| [a, self.whole(a)]).map(|a| (a, u32::MAX)).collect();
         for &fact in reached {
             let a = self.supporter[fact as usize];
             if let Some(d) = due.get_mut(&(a as usize)) {
@@ -685,6 +682,12 @@ impl GroundTask {
             }
         }
         due
+    }
+
+    /// The action that names `a`'s whole instantiation: its adding part for the deleting part
+    /// of an instantiation split at an exclusion, else `a` itself.
+    fn whole(&self, a: usize) -> usize {
+        if self.pair[a] == NONE { a } else { self.pair[a] as usize }
     }
 
     /// For a part of an instantiation split at an exclusion, chosen for the relaxed plan:
