@@ -7,6 +7,7 @@ mod common;
 use std::time::{Duration, Instant};
 
 use kbc::engine::Machine;
+use kbc::ir::hir::Snap;
 use kbc::ir::plan::Plan;
 use kbc::ladder::{self, Family, Rung};
 use kbc::passes;
@@ -448,6 +449,30 @@ fn onkb_goals_proven_one_at_a_time_answer_as_the_conjunction() {
 }
 
 #[test]
+fn values_the_onkb_goals_give_twice_make_one_action() {
+    // `slot(2)` is a fact twice in the shapes KB, so Prolog proves `maybe(1, T), slot(T)`
+    // with T = 1, 2, 3, 2: the second T = 2 is the same action again, and the successors list
+    // it once, where Prolog first found it, whether the goals are proven apart or whole.
+    let frontend = onkb_shapes();
+    let mut task = passes::task::build(&frontend.kb, 0);
+    let program = planner::program_for(&frontend.kb, 0);
+    let open_start = task.schemas.iter().position(|s| s.snap == Snap::Start).expect("open_start");
+    for whole in [false, true] {
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        if whole {
+            *successors.parts().1 = successors::OnKbCache::whole(&task);
+        }
+        let state = task.init.clone();
+        let mut out = Vec::new();
+        successors.schema(&mut task, open_start, &state, &mut out).expect("no engine error");
+        // `open_start(R, S, T)`: T is the schema's third variable.
+        let targets: Vec<String> =
+            out.iter().map(|a| const_text(&frontend, &task, a.bindings[2].expect("T bound"))).collect();
+        assert_eq!(targets, ["1", "2", "3"], "proven whole: {whole}");
+    }
+}
+
+#[test]
 fn the_ends_of_one_running_action_are_those_the_whole_schema_gives_it() {
     // The search asks whether a start's own end can apply (`Successors::ending`) without
     // enumerating the ends of every running action; it must find exactly those.
@@ -593,10 +618,11 @@ goal_state([at(p1, s4), shipped(p1, south), spun(p2), at(p2, s2)]).
 }
 
 #[test]
-fn fact_filters_leave_the_relaxation_as_it_was() {
+fn fact_filters_and_join_indexes_leave_the_relaxation_as_it_was() {
     // An instantiation the join drops early because its body's values are in no fact of a
     // leading OnKB goal is one the engine would have refused: the ground task and every
-    // estimate stay the same as with the engine asked for every instantiation.
+    // estimate stay the same as with the engine asked for every instantiation. And a join
+    // that looks its candidates up in indexes finds what one scanning every tuple finds.
     let rung = Rung { family: Family::Build, blocks: 12, arms: 3, seed: 1 };
     let (_, blocks, _) = kbc::session::Session::from_text(&rung.name(), rung.source()).into_parts();
     // (name, KB, the least number of filters found)
@@ -613,10 +639,22 @@ fn fact_filters_leave_the_relaxation_as_it_was() {
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let states = random_walk(&mut task, &mut successors, 60, 3);
         let mut relaxations = Vec::new();
-        for (filtered, ground) in [(true, false), (false, false), (true, true), (false, true)] {
+        // (fact filters, grounded, join indexes)
+        let configurations = [
+            (true, false, true),
+            (false, false, true),
+            (true, true, true),
+            (false, true, true),
+            (true, false, false),
+            (true, true, false),
+        ];
+        for (filtered, ground, indexed) in configurations {
             let mut relaxation = Relaxation::new(&task);
             if !filtered {
                 relaxation.without_fact_filters();
+            }
+            if !indexed {
+                relaxation.without_join_indexes();
             }
             if ground {
                 let (machine, cache) = successors.parts();
@@ -625,6 +663,7 @@ fn fact_filters_leave_the_relaxation_as_it_was() {
             relaxations.push(relaxation);
         }
         assert_eq!(relaxations[2].ground_actions(), relaxations[3].ground_actions(), "{name}: ground actions");
+        assert_eq!(relaxations[2].ground_actions(), relaxations[5].ground_actions(), "{name}: ground actions, scanned");
         for state in &states {
             let (machine, cache) = successors.parts();
             let estimates: Vec<_> = relaxations
@@ -635,6 +674,10 @@ fn fact_filters_leave_the_relaxation_as_it_was() {
             assert_eq!(estimates[0].h_ff, estimates[1].h_ff, "{name}: lifted h_FF");
             assert_eq!(estimates[2].h_add, estimates[3].h_add, "{name}: ground h_add");
             assert_eq!(estimates[2].h_ff, estimates[3].h_ff, "{name}: ground h_FF");
+            for (indexed, scanned, what) in [(0, 4, "lifted"), (2, 5, "ground")] {
+                let (a, b) = (&estimates[indexed], &estimates[scanned]);
+                assert_eq!((a.h_add, a.h_ff), (b.h_add, b.h_ff), "{name}: {what} estimates, indexed and scanned");
+            }
         }
         assert!(states.len() > 5, "{name}: a walk of {} states", states.len());
         let found = relaxations[0].fact_filters();
