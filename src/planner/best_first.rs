@@ -80,6 +80,23 @@
 //! swap_b75 3.2 -> 1.2 s, build_b75 6.6 -> 1.5 s (1.41x -> 1.28x); but build_b50 3.1 -> 4.2 s
 //! (3.32x -> 5.23x: its plain chains now move blocks off needed cells towards places not
 //! ready, and end with every arm waiting), and swap_b100_a8 is still unsolved.
+//!
+//! On swap_b100_a8 every plain chain ended in such a dead end (every arm gripping a block
+//! headed for a place under another stack), and the careful chain stopped where every arm
+//! held a block whose planned move would wait: no chain was ever taken, and the search ran
+//! out of 30 s after 4807 expansions. Where the plain chain is dead, the lookahead now runs a
+//! careful chain that is also loosened (`loosen`): a plan step that would hold an arm waiting
+//! may take other values for its chosen variables ([`PlanAction::chosen`], such as a move's
+//! destination), so the block goes to a free cell; the end of such a start is taken by
+//! whichever clause applies (the plan's end for it is the one onto a stack). It is taken only
+//! whole (cut back, its prefixes led build_b100_a8 from 115 to 596 expansions), and after
+//! [`LOOSENED_MISSES`] in a row not taken, no more are tried. Measured (`kbc plan -v
+//! --timeout 30`, one run each) against the lookahead without it: swap_b100_a8 unsolved ->
+//! 1.5 s (26 expansions, 1.73x the bound), swap_b50_a8 5.0 -> 0.3 s (4.62x -> 1.79x),
+//! swap_b75 0.8 -> 0.6 s (1.87x -> 2.06x), swap_b100_a10 1.4 -> 1.2 s (1.55x -> 1.78x); the
+//! build and reverse rungs expand the same states. Loosening every careful chain instead
+//! doubled the reverse rungs' makespans (reverse_b100_a10 350 -> 723), and loosening
+//! without the limit cost build_b50_a8 3.6 -> 5.7 s.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -272,15 +289,45 @@ fn rebound_vars(task: &Task, headed: &[Headed], action: &Applicable) -> Vec<u32>
 
 /// The values a start gives the name arguments that are its loose variables: two running
 /// actions of one durative action with the same ones are headed for the same place.
-fn loose_values(task: &Task, wanted: &PlanAction, action: &Applicable) -> Vec<(usize, ConstId)> {
+fn loose_values(task: &Task, loose: &[u32], action: &Applicable) -> Vec<(usize, ConstId)> {
     let Pattern::Compound(_, args) = &task.schemas[action.schema].name else { return Vec::new() };
     args.iter()
         .enumerate()
         .filter_map(|(position, arg)| match arg {
-            Pattern::Var(v) if wanted.loose.contains(v) => Some((position, action.bindings[*v as usize]?)),
+            Pattern::Var(v) if loose.contains(v) => Some((position, action.bindings[*v as usize]?)),
             _ => None,
         })
         .collect()
+}
+
+/// After this many loosened lookahead chains in a row that were not taken, the search tries
+/// no more: on the build rungs none is ever taken, and each costs hundreds of steps (it
+/// slowed build_b50_a8 from 3.6 to 5.7 s before this limit), where on the swap rungs the
+/// first ones are.
+const LOOSENED_MISSES: u32 = 8;
+
+/// Of the `applicable` actions `accept` takes, the one `timeline` places earliest (the first
+/// of equals), with its placement.
+fn earliest(
+    task: &mut Task,
+    successors: &mut Successors<'_>,
+    timeline: &Timeline,
+    durations: &mut Durations,
+    applicable: &[Applicable],
+    accept: impl Fn(&Applicable) -> bool,
+) -> Result<Option<(usize, Placement)>, ConditionError> {
+    let mut best: Option<((i64, usize), Placement)> = None;
+    for (k, action) in applicable.iter().enumerate() {
+        if !accept(action) {
+            continue;
+        }
+        let (machine, _) = successors.parts();
+        let placement = timeline.place(task, machine, durations, action)?;
+        if best.as_ref().is_none_or(|(key, _)| (placement.time, k) < *key) {
+            best = Some(((placement.time, k), placement));
+        }
+    }
+    Ok(best.map(|((_, k), placement)| (k, placement)))
 }
 
 /// Follows the relaxed plan from `state`, as YAHSP's lookahead does (Vidal, ICAPS 2004): of
@@ -301,6 +348,7 @@ fn look_ahead(
     state: &State,
     plan: &[PlanAction],
     careful: bool,
+    loosen: bool,
     deadline: Option<Instant>,
 ) -> Result<Chain, ConditionError> {
     let mut taken = vec![false; plan.len()];
@@ -331,43 +379,68 @@ fn look_ahead(
         // The step: the plan's action it takes (none for a give-back step), the applicable
         // action's index, its placement.
         let mut chosen: Option<(Option<usize>, usize, Placement)> = None;
-        for (i, wanted) in plan.iter().enumerate() {
-            if taken[i] {
-                continue;
+        // Whether the step is a plan action taken with its chosen variables loosened.
+        let mut loosened = false;
+        for loosening in [false, true] {
+            if loosening {
+                if !loosen || chosen.is_some() {
+                    break;
+                }
+                loosened = true;
+                // The end of a start taken loosely comes first, whichever clause ends it (the
+                // plan's end step for it may be another clause: onto a stack, not a cell).
+                let ends_headed = |action: &Applicable| {
+                    action.ends.is_some_and(|i| headed.iter().any(|(running, _, _)| *running == i))
+                };
+                if let Some((k, placement)) =
+                    earliest(task, successors, &timeline, durations, &applicable, ends_headed)?
+                {
+                    chosen = Some((None, k, placement));
+                    break;
+                }
             }
-            // (whether it goes where a taken start is headed, whether it differs from the
-            // plan's values, its time, its index)
-            let mut best: Option<((bool, bool, i64, usize), Placement)> = None;
-            for (k, action) in applicable.iter().enumerate() {
-                let loosely = !wanted.loose.is_empty();
-                let free = if rebound[k].is_empty() { &wanted.loose[..] } else { &rebound[k][..] };
-                if !is_plan_action(task, &wanted.action, action, free) {
+            for (i, wanted) in plan.iter().enumerate() {
+                if taken[i] {
                     continue;
                 }
-                let exact = !loosely || is_plan_action(task, &wanted.action, action, &[]);
-                let crowded = loosely && {
-                    let base = task.schemas[action.schema].base;
-                    let values = loose_values(task, wanted, action);
-                    headed.iter().any(|(_, b, v)| *b == base && *v == values)
-                };
-                // Carefully, no start that would hold its arm waiting once no arm is free.
-                if careful && task.schemas[action.schema].snap == Snap::Start {
-                    let child = successors::apply(task, current, action);
-                    if !any_unit_free(task, &resource_goals, &child)
-                        && idles(task, successors, &child, action, &mut scratch)?
-                    {
+                let loose: &[u32] = if loosened { &wanted.chosen } else { &wanted.loose };
+                // (whether it goes where a taken start is headed, whether it differs from the
+                // plan's values, its time, its index)
+                let mut best: Option<((bool, bool, i64, usize), Placement)> = None;
+                for (k, action) in applicable.iter().enumerate() {
+                    let loosely = !loose.is_empty();
+                    let free = if rebound[k].is_empty() { loose } else { &rebound[k][..] };
+                    if !is_plan_action(task, &wanted.action, action, free) {
                         continue;
                     }
+                    let exact = !loosely || is_plan_action(task, &wanted.action, action, &[]);
+                    let crowded = loosely && {
+                        let base = task.schemas[action.schema].base;
+                        let values = loose_values(task, loose, action);
+                        headed.iter().any(|(_, b, v)| *b == base && *v == values)
+                    };
+                    // Carefully, no start that would hold its arm waiting once no arm is free.
+                    if careful && task.schemas[action.schema].snap == Snap::Start {
+                        let child = successors::apply(task, current, action);
+                        if !any_unit_free(task, &resource_goals, &child)
+                            && idles(task, successors, &child, action, &mut scratch)?
+                        {
+                            continue;
+                        }
+                    }
+                    let (machine, _) = successors.parts();
+                    let placement = timeline.place(task, machine, durations, action)?;
+                    let key = (crowded, !exact, placement.time, k);
+                    if best.as_ref().is_none_or(|(first, _)| key < *first) {
+                        best = Some((key, placement));
+                    }
                 }
-                let (machine, _) = successors.parts();
-                let placement = timeline.place(task, machine, durations, action)?;
-                let key = (crowded, !exact, placement.time, k);
-                if best.as_ref().is_none_or(|(first, _)| key < *first) {
-                    best = Some((key, placement));
+                if let Some(((_, _, _, k), placement)) = best {
+                    chosen = Some((Some(i), k, placement));
+                    break;
                 }
             }
-            if let Some(((_, _, _, k), placement)) = best {
-                chosen = Some((Some(i), k, placement));
+            if chosen.is_some() {
                 break;
             }
         }
@@ -375,18 +448,8 @@ fn look_ahead(
         // back (every unit is free from the start there), so when the arms all hold blocks
         // already put down, the chain releases one, the one the timeline frees soonest.
         if chosen.is_none() && careful && give_backs_left > 0 {
-            let mut best: Option<((i64, usize), Placement)> = None;
-            for (k, action) in applicable.iter().enumerate() {
-                if !gives_back[action.schema] {
-                    continue;
-                }
-                let (machine, _) = successors.parts();
-                let placement = timeline.place(task, machine, durations, action)?;
-                if best.as_ref().is_none_or(|(key, _)| (placement.time, k) < *key) {
-                    best = Some(((placement.time, k), placement));
-                }
-            }
-            if let Some(((_, k), placement)) = best {
+            let giving_back = |action: &Applicable| gives_back[action.schema];
+            if let Some((k, placement)) = earliest(task, successors, &timeline, durations, &applicable, giving_back)? {
                 give_backs_left -= 1;
                 chosen = Some((None, k, placement));
             }
@@ -403,11 +466,12 @@ fn look_ahead(
         if let Some(i) = step {
             taken[i] = true;
             let wanted = &plan[i];
-            if action.ends.is_none() && !wanted.loose.is_empty() {
+            let loose: &[u32] = if loosened { &wanted.chosen } else { &wanted.loose };
+            if action.ends.is_none() && !loose.is_empty() {
                 let schema = &task.schemas[action.schema];
                 let base = schema.base;
                 if let Some(instance) = successors::running_instance(schema, &mut task.consts, &action.bindings) {
-                    let values = loose_values(task, wanted, &action);
+                    let values = loose_values(task, loose, &action);
                     headed.push((instance, base, values));
                 }
             }
@@ -552,6 +616,8 @@ pub fn search(
     let resource_goals = resource_goals(task);
     // The lowest estimate of any state evaluated so far.
     let mut best_h = u32::MAX;
+    // Loosened lookahead chains not taken in a row (see [`LOOSENED_MISSES`]).
+    let mut loosened_misses = 0;
     loop {
         from_preferred = !from_preferred;
         let entry = match (from_preferred, preferred.is_empty()) {
@@ -770,7 +836,17 @@ pub fn search(
         if lookahead && progressed && best.is_none() && !restart {
             let accepted = nodes[id as usize].accepted.clone();
             let mut taken: Option<(Chain, usize, ChainEstimate)> = None;
-            for careful in [false, true] {
+            // Plain; then careful where the plain chain ends no better than it started, or
+            // careful and loosened where it ends in a dead end (until loosening has missed
+            // `LOOSENED_MISSES` times in a row).
+            let mut plain_dead = false;
+            for (careful, loosen) in [(false, false), (true, false), (true, true)] {
+                if careful && plain_dead != loosen {
+                    continue;
+                }
+                if loosen && loosened_misses >= LOOSENED_MISSES {
+                    break;
+                }
                 let chain = match look_ahead(
                     task,
                     &mut successors,
@@ -779,6 +855,7 @@ pub fn search(
                     &state,
                     &estimate.plan,
                     careful,
+                    loosen,
                     budget.deadline,
                 ) {
                     Ok(chain) => chain,
@@ -792,19 +869,26 @@ pub fn search(
                             .evaluate_for_search(task, &chain.states[steps - 1], machine, cache, accepted.as_deref())
                             .map(|(e, landmarks)| e.h_ff.map(|ff| (ff + landmarks.map_or(0, |(_, count)| count), ff)))
                     };
-                    match longest_live_prefix(chain.steps.len(), careful, &mut evaluate) {
+                    // (A loosened chain is taken whole or not at all: its prefixes went where
+                    // the search's own states then could not get on, on build_b100_a8.)
+                    match longest_live_prefix(chain.steps.len(), careful && !loosen, &mut evaluate) {
                         Ok(kept) => kept,
                         Err(stop) => return Outcome::ended(found, stop.into(), stats),
                     }
                 };
-                // (The careful chain is taken only if it ends better than where it started.)
+                // (A careful chain is taken only if it ends better than where it started.)
                 if let Some((length, h)) = kept
                     && (!careful || h.0 < h_lm + h_ff)
                 {
                     taken = Some((chain, length, h));
                 }
-                // (A chain that ends in a dead end is not tried again: the search's next
-                // state tries its own.)
+                if loosen {
+                    loosened_misses = if taken.is_some() { 0 } else { loosened_misses + 1 };
+                }
+                if !careful && taken.is_none() {
+                    plain_dead = true;
+                    continue;
+                }
                 if taken.as_ref().is_none_or(|(_, _, (end_h, _))| *end_h < h_lm + h_ff) {
                     break;
                 }
@@ -909,9 +993,9 @@ mod tests {
         }
     }
 
-    /// Runs the lookahead (`careful` or not) from the initial state of `rung` (the standard
-    /// blocks world) and hands it to `check`.
-    fn chain_from_start(rung: Rung, careful: bool, check: impl FnOnce(Probe<'_, '_>)) {
+    /// Runs the lookahead (`careful` or not, `loosen` or not) from the initial state of
+    /// `rung` (the standard blocks world) and hands it to `check`.
+    fn chain_from_start(rung: Rung, (careful, loosen): (bool, bool), check: impl FnOnce(Probe<'_, '_>)) {
         let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
         let problem = frontend.kb.problems.len() - 1;
         let mut task = crate::passes::task::build(&frontend.kb, problem);
@@ -935,6 +1019,7 @@ mod tests {
             &init,
             &estimate.plan,
             careful,
+            loosen,
             None,
         )
         .expect("no engine error");
@@ -956,7 +1041,7 @@ mod tests {
         // after 25 steps, at a cost of 1743 expansions in all; 30 with the move kept).
         for family in [Family::Build, Family::Swap] {
             let rung = Rung { family, blocks: 20, arms: 4, seed: 1 };
-            chain_from_start(rung, false, |probe| {
+            chain_from_start(rung, (false, false), |probe| {
                 let misplaced: Vec<ConstId> = probe
                     .task
                     .goal
@@ -1002,12 +1087,12 @@ mod tests {
         // goal is out of reach, it ends better than it started.
         let rung = Rung { family: Family::Reverse, blocks: 30, arms: 6, seed: 1 };
         let mut plain = (0, 0);
-        chain_from_start(rung, false, |mut probe| {
+        chain_from_start(rung, (false, false), |mut probe| {
             let steps = probe.chain.steps.len();
             plain = (steps, probe.estimate_after(steps).unwrap_or(u32::MAX));
             assert!(plain.1 >= probe.start_h, "{}: the plain chain ends better ({plain:?})", rung.name());
         });
-        chain_from_start(rung, true, |mut probe| {
+        chain_from_start(rung, (true, false), |mut probe| {
             let steps = probe.chain.steps.len();
             assert!(steps > plain.0, "{}: {steps} careful steps against {}", rung.name(), plain.0);
             let gives_back = gives_back_units(probe.task);
@@ -1056,6 +1141,37 @@ mod tests {
     }
 
     #[test]
+    fn a_loosened_chain_moves_blocks_aside_where_the_plan_would_hold_every_arm_waiting() {
+        // On swap every block's goal place is under another stack. The plain chain grips
+        // blocks and starts them toward places that are not ready, and ends with every arm
+        // waiting (a dead end); the careful one stops once every arm holds a block whose
+        // planned move would wait. Loosened, the careful chain moves those blocks to free
+        // cells instead (their destination is only the plan's choice), ends those moves
+        // (another clause than the plan's end) and gets further: it ends live, and better
+        // than it started.
+        for (blocks, arms) in [(20, 4), (30, 6)] {
+            let rung = Rung { family: Family::Swap, blocks, arms, seed: 1 };
+            chain_from_start(rung, (false, false), |mut probe| {
+                let steps = probe.chain.steps.len();
+                assert_eq!(probe.estimate_after(steps), None, "{}: the plain chain ends live", rung.name());
+            });
+            let mut careful = 0;
+            chain_from_start(rung, (true, false), |probe| careful = probe.chain.steps.len());
+            chain_from_start(rung, (true, true), |mut probe| {
+                let steps = probe.chain.steps.len();
+                assert!(steps > careful, "{}: {steps} loosened steps against {careful} careful", rung.name());
+                let end = probe.estimate_after(steps).expect("a live end");
+                assert!(end < probe.start_h, "{}: ends at {end}, started at {}", rung.name(), probe.start_h);
+                // Some move ends where the plan did not send its block.
+                let off_plan = probe.chain.steps.iter().filter(|(a, _, _)| {
+                    a.ends.is_some() && !probe.plan.iter().any(|p| is_plan_action(probe.task, &p.action, a, &p.loose))
+                });
+                assert!(off_plan.count() > 0, "{}: every step is the plan's", rung.name());
+            });
+        }
+    }
+
+    #[test]
     fn the_lookahead_gives_arms_to_blocks_whose_place_is_ready_first() {
         // Taken cheapest first, the relaxed plan's grips all cost nothing, and the chain gave
         // every arm a block whose place was not ready (the top of a tower whose base still
@@ -1067,7 +1183,7 @@ mod tests {
         // keeps an arm from waiting when no other is free, goes on.
         for (blocks, arms, careful) in [(12, 4, false), (20, 4, false), (20, 4, true), (30, 6, true)] {
             let rung = Rung { family: Family::Build, blocks, arms, seed: 1 };
-            chain_from_start(rung, careful, |probe| {
+            chain_from_start(rung, (careful, false), |probe| {
                 let (task, successors, chain) = (probe.task, probe.successors, &probe.chain);
                 let mut scratch = Vec::new();
                 let end = chain.states.last().cloned().unwrap_or_else(|| task.init.clone());
@@ -1086,7 +1202,7 @@ mod tests {
         // of its own (there are more free cells than arms here).
         for (blocks, arms) in [(10, 4), (20, 4)] {
             let rung = Rung { family: Family::Reverse, blocks, arms, seed: 1 };
-            chain_from_start(rung, false, |probe| {
+            chain_from_start(rung, (false, false), |probe| {
                 let (task, chain) = (probe.task, &probe.chain);
                 // The cells some goal literal names (the last two arguments of `ontable/3`
                 // and `on/4`): moves there are not moves aside.

@@ -594,6 +594,7 @@ impl GroundTask {
                 purpose,
                 detour,
                 loose: Box::default(),
+                chosen: Box::default(),
             })
             .collect();
         estimate.h_ff = Some(length);

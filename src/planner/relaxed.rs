@@ -302,6 +302,9 @@ pub struct PlanAction {
     /// move only has to leave; the cell is the relaxation's cheapest pick, which every such
     /// move shares, and another free cell does as well.
     pub loose: Box<[u32]>,
+    /// All its variables bound by no Valid literal (a superset of `loose`): those a careful
+    /// lookahead may give other values when the plan's would hold an arm waiting.
+    pub chosen: Box<[u32]>,
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.
@@ -1228,6 +1231,7 @@ impl Relaxation {
                 &[]
             };
             let bindings = &step.action.bindings;
+            step.chosen = chosen.iter().copied().filter(|&v| bindings[v as usize].is_some()).collect();
             let matters = chosen.iter().any(|&v| bindings[v as usize].is_some_and(|c| values.contains(&c)));
             if (!matters || step.detour) && (purpose as usize) < ground.tuples {
                 step.loose = chosen.iter().copied().filter(|&v| bindings[v as usize].is_some()).collect();
