@@ -339,6 +339,12 @@ fn earliest(
 /// block it moves aside to the one cheapest free cell) takes other values for them, and
 /// so does one that has no applicable instance with the plan's values. It stops short of a
 /// goal state, which the search recognises when it generates it, and at `deadline`.
+///
+/// `careful` (see the module doc) gives arms back when no plan step applies and takes no
+/// start that would hold an arm waiting once no arm is free. `loosen` (meant with
+/// `careful`) then, before giving an arm back, takes the end of a start it took loosely by
+/// whichever clause applies, or else a plan step with all its chosen variables
+/// ([`PlanAction::chosen`]) free.
 #[allow(clippy::too_many_arguments)]
 fn look_ahead(
     task: &mut Task,
