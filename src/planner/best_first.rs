@@ -93,7 +93,8 @@
 //! [`LOOSENED_MISSES`] in a row not taken, no more are tried. Measured (`kbc plan -v
 //! --timeout 30`, one run each) against the lookahead without it: swap_b100_a8 unsolved ->
 //! 1.5 s (26 expansions, 1.73x the bound), swap_b50_a8 5.0 -> 0.3 s (4.62x -> 1.79x),
-//! swap_b75 0.8 -> 0.6 s (1.87x -> 2.06x), swap_b100_a10 1.4 -> 1.2 s (1.55x -> 1.78x); the
+//! swap_b75 0.8 -> 0.6 s (1.87x -> 2.06x), swap_b100_a10 1.4 -> 1.2-1.6 s over three runs
+//! (1.55x -> 1.78x); the
 //! build and reverse rungs expand the same states. Loosening every careful chain instead
 //! doubled the reverse rungs' makespans (reverse_b100_a10 350 -> 723), and loosening
 //! without the limit cost build_b50_a8 3.6 -> 5.7 s.
@@ -382,17 +383,15 @@ fn look_ahead(
             .iter()
             .map(|action| if careful { rebound_vars(task, &headed, action) } else { Vec::new() })
             .collect();
-        // The step: the plan's action it takes (none for a give-back step), the applicable
-        // action's index, its placement.
-        let mut chosen: Option<(Option<usize>, usize, Placement)> = None;
-        // Whether the step is a plan action taken with its chosen variables loosened.
-        let mut loosened = false;
+        // The step: the plan's action it takes with the variables it took loosely (none for
+        // a give-back step or a loosened start's end), the applicable action's index, its
+        // placement.
+        let mut chosen: Option<(TakenStep<'_>, usize, Placement)> = None;
         for loosening in [false, true] {
             if loosening {
                 if !loosen || chosen.is_some() {
                     break;
                 }
-                loosened = true;
                 // The end of a start taken loosely comes first, whichever clause ends it (the
                 // plan's end step for it may be another clause: onto a stack, not a cell).
                 let ends_headed = |action: &Applicable| {
@@ -409,7 +408,7 @@ fn look_ahead(
                 if taken[i] {
                     continue;
                 }
-                let loose: &[u32] = if loosened { &wanted.chosen } else { &wanted.loose };
+                let loose: &[u32] = if loosening { &wanted.chosen } else { &wanted.loose };
                 // (whether it goes where a taken start is headed, whether it differs from the
                 // plan's values, its time, its index)
                 let mut best: Option<((bool, bool, i64, usize), Placement)> = None;
@@ -442,7 +441,7 @@ fn look_ahead(
                     }
                 }
                 if let Some(((_, _, _, k), placement)) = best {
-                    chosen = Some((Some(i), k, placement));
+                    chosen = Some((Some((i, loose)), k, placement));
                     break;
                 }
             }
@@ -469,10 +468,8 @@ fn look_ahead(
         if let Some(instance) = action.ends {
             headed.retain(|(running, _, _)| *running != instance);
         }
-        if let Some(i) = step {
+        if let Some((i, loose)) = step {
             taken[i] = true;
-            let wanted = &plan[i];
-            let loose: &[u32] = if loosened { &wanted.chosen } else { &wanted.loose };
             if action.ends.is_none() && !loose.is_empty() {
                 let schema = &task.schemas[action.schema];
                 let base = schema.base;
@@ -489,6 +486,10 @@ fn look_ahead(
     }
     Ok(Chain { steps, states })
 }
+
+/// What a lookahead step takes of the plan: the step's number and the variables it took
+/// loosely; `None` for a step of its own (giving an arm back, ending a loosened start).
+type TakenStep<'p> = Option<(usize, &'p [u32])>;
 
 /// A chain end's estimate: landmarks plus h_FF, and h_FF.
 type ChainEstimate = (u32, u32);

@@ -325,7 +325,7 @@ pub struct Relaxation {
     goal_index: Vec<usize>,
     /// While grounding: every rule instantiation fired so far.
     recorder: Option<Recorder>,
-    /// Scratch space for a ground action's key while recording.
+    /// Scratch space for the keys of a split instantiation's two parts while recording.
     key: Vec<Option<ConstId>>,
     /// The ground relaxed task, once [`Relaxation::ground`] has built it; evaluations then
     /// use it instead of the lifted rules.
@@ -566,6 +566,8 @@ impl Relaxation {
                 }
             }
         }
+        // Per view, the positions each of its indexes looks tuples up by (see [`Index`]).
+        let mut index_positions: FxHashMap<u32, Vec<Box<[u32]>>> = FxHashMap::default();
         for (index, schema) in task.schemas.iter().enumerate() {
             let (valid, heads) = relaxed_literals(schema);
             // Variables needed beyond the body: in heads, OnKB and InvalidAtEnd conditions,
@@ -635,7 +637,7 @@ impl Relaxation {
                     BodyLiteral { view: relaxation.view(literal.pred, &keep), args }
                 })
                 .collect();
-            let orders = (0..body.len()).map(|trigger| join_order(&body, trigger)).collect();
+            let orders = (0..body.len()).map(|trigger| join_order(&body, trigger, &mut index_positions)).collect();
             relaxation.rules.push(Rule {
                 schema: index as u32,
                 vars: schema.vars,
@@ -678,34 +680,16 @@ impl Relaxation {
                 relaxation.triggers[literal.view as usize].push((r as u32, position as u32));
             }
         }
-        relaxation.tables =
-            relaxation.views.iter().map(|v| Table { arity: v.keep.len(), ..Table::default() }).collect();
-        // `join_order` put the bound positions' count in `lookup`; number each table's
-        // distinct sets of positions as its indexes.
-        let Relaxation { rules, tables, .. } = &mut relaxation;
-        for rule in rules.iter_mut() {
-            let body = &rule.body;
-            for (trigger, order) in rule.orders.iter_mut().enumerate() {
-                let mut bound: Vec<u32> = Vec::new();
-                body[trigger].args.iter().for_each(|a| var_occurrences(a, &mut bound));
-                for step in order.iter_mut() {
-                    let literal = &body[step.literal as usize];
-                    if step.lookup.is_some() {
-                        let positions: Box<[u32]> = bound_positions(&literal.args, &bound).collect();
-                        let indexes = &mut tables[literal.view as usize].indexes;
-                        let number = match indexes.iter().position(|index| index.positions == positions) {
-                            Some(number) => number,
-                            None => {
-                                indexes.push(Index { positions, tuples: FxHashMap::default() });
-                                indexes.len() - 1
-                            }
-                        };
-                        step.lookup = Some(number as u32);
-                    }
-                    literal.args.iter().for_each(|a| var_occurrences(a, &mut bound));
-                }
-            }
-        }
+        relaxation.tables = relaxation
+            .views
+            .iter()
+            .enumerate()
+            .map(|(view, v)| {
+                let positions = index_positions.remove(&(view as u32)).unwrap_or_default();
+                let indexes = positions.into_iter().map(|positions| Index { positions, tuples: FxHashMap::default() });
+                Table { arity: v.keep.len(), indexes: indexes.collect(), ..Table::default() }
+            })
+            .collect();
         relaxation
     }
 
@@ -1592,35 +1576,38 @@ impl Relaxation {
             self.record_part(task, rule, bindings, bindings, Part::Whole);
             return;
         };
-        // Most instantiations of a rule with an exclusion (a move to each of 80 destinations)
-        // share both parts with one recorded before: check that first, without allocating.
-        let mut key = std::mem::take(&mut self.key);
-        key.clear();
-        key.extend(
-            bindings.iter().enumerate().map(|(v, &b)| if exclusion.vars.contains(&(v as u32)) { None } else { b }),
-        );
-        let mut known = self.is_recorded(rule, &key);
-        if known && !exclusion.dels.is_empty() {
-            key.clear();
-            key.extend(
-                bindings
-                    .iter()
-                    .enumerate()
-                    .map(|(v, &b)| if exclusion.delete_vars.contains(&(v as u32)) { b } else { None }),
+        // Both parts' keys, in scratch space: most instantiations of a rule with an exclusion
+        // (a move to each of 80 destinations) share both parts with one recorded before,
+        // which is checked before anything is allocated.
+        let width = bindings.len();
+        let has_deletes = !exclusion.dels.is_empty();
+        let mut keys = std::mem::take(&mut self.key);
+        keys.clear();
+        for (vars, keep) in [(&exclusion.vars, false), (&exclusion.delete_vars, true)] {
+            keys.extend(
+                bindings.iter().enumerate().map(|(v, &b)| if vars.contains(&(v as u32)) == keep { b } else { None }),
             );
-            known = self.is_recorded(rule, &key);
         }
-        self.key = key;
-        if known {
-            return;
+        let (adds, deletes) = keys.split_at(width);
+        let known = self.recorded(rule, adds).is_some() && (!has_deletes || self.recorded(rule, deletes).is_some());
+        if !known {
+            self.record_split(task, rule, bindings, adds, has_deletes.then_some(deletes));
         }
-        let keep_unless = |vars: &[u32], keep: bool| -> Box<[Option<ConstId>]> {
-            (0..bindings.len() as u32)
-                .map(|v| if vars.contains(&v) == keep { bindings[v as usize] } else { None })
-                .collect()
-        };
-        let adds = keep_unless(&exclusion.vars, false);
-        let deletes = (!exclusion.dels.is_empty()).then(|| keep_unless(&exclusion.delete_vars, true));
+        self.key = keys;
+    }
+
+    /// Records the two parts of an instantiation of `rule`, which has an [`Exclusion`]: the
+    /// one that adds, known by `adds`, and the one that deletes, known by `deletes` (none if
+    /// the rule deletes nothing an Invalid literal reads).
+    fn record_split(
+        &mut self,
+        task: &mut Task,
+        rule: usize,
+        bindings: &[Option<ConstId>],
+        adds: &[Option<ConstId>],
+        deletes: Option<&[Option<ConstId>]>,
+    ) {
+        let exclusion = self.rules[rule].exclusion.as_ref().expect("a rule with an exclusion");
         // The exclusion node: the group's values and the values the excluded ones must differ
         // from (none if one of those is unbound: then `E \== O` holds for every tuple).
         let literal = &self.rules[rule].body[exclusion.literal as usize];
@@ -1634,21 +1621,21 @@ impl Relaxation {
         let Some(recorder) = self.recorder.as_mut() else { return };
         let group = recorder.groups.number((rule as u32, group));
         let node = recorder.exclusions.number((group, excluded));
-        let adding = self.record_part(task, rule, &adds, bindings, Part::Adds { node });
+        let adding = self.record_part(task, rule, adds, bindings, Part::Adds { node });
         if let (Some(deletes), Some(adding)) = (deletes, adding) {
-            self.record_part(task, rule, &deletes, bindings, Part::Deletes { pair: adding });
+            self.record_part(task, rule, deletes, bindings, Part::Deletes { pair: adding });
         }
     }
 
-    /// True if the ground action of `rule` known by `key` is recorded already.
-    fn is_recorded(&self, rule: usize, key: &[Option<ConstId>]) -> bool {
-        let Some(recorder) = &self.recorder else { return false };
+    /// The number of the ground action of `rule` known by `key`, if it is recorded.
+    fn recorded(&self, rule: usize, key: &[Option<ConstId>]) -> Option<u32> {
+        let recorder = self.recorder.as_ref()?;
         let hash = self.hasher.hash_one((rule as u32, key));
         let actions = &recorder.actions;
         recorder
             .seen
             .find(hash, |&a| actions[a as usize].rule == rule as u32 && actions[a as usize].key() == key)
-            .is_some()
+            .copied()
     }
 
     /// Records one ground action of `rule`, known by its rule and `key` (its bindings, some
@@ -1662,16 +1649,13 @@ impl Relaxation {
         bindings: &[Option<ConstId>],
         part: Part,
     ) -> Option<u32> {
-        let recorder = self.recorder.as_mut()?;
-        let hash = self.hasher.hash_one((rule as u32, key));
-        let actions = &recorder.actions;
-        let same = |&a: &u32| actions[a as usize].rule == rule as u32 && actions[a as usize].key() == key;
-        if recorder.overflowed {
+        if self.recorder.as_ref()?.overflowed {
             return None;
         }
-        if let Some(&found) = recorder.seen.find(hash, same) {
+        if let Some(found) = self.recorded(rule, key) {
             return Some(found);
         }
+        let recorder = self.recorder.as_mut().expect("checked above");
         if recorder.actions.len() >= recorder.limit || recorder.bytes > recorder.max_bytes {
             recorder.overflowed = true;
             return None;
@@ -1769,6 +1753,7 @@ impl Relaxation {
             deletes,
         });
         let hasher = self.hasher;
+        let hash = hasher.hash_one((rule as u32, key));
         let Recorder { seen, actions, .. } = recorder;
         seen.insert_unique(hash, index, |&a| hasher.hash_one((actions[a as usize].rule, actions[a as usize].key())));
         Some(index)
@@ -2151,9 +2136,9 @@ fn bound_positions<'a>(args: &'a [Pattern], bound: &'a [u32]) -> impl Iterator<I
 }
 
 /// The join order for a rule triggered by body literal `trigger`: the other literals, most
-/// bound first, each looked up on every kept position bound by then (`lookup` is set if there
-/// is one; [`Relaxation::build`] numbers the index).
-fn join_order(body: &[BodyLiteral], trigger: usize) -> Box<[JoinStep]> {
+/// bound first, each looked up on every kept position bound by then, in the index of its view
+/// for those positions (`indexes`: per view, the positions of each index, numbered in order).
+fn join_order(body: &[BodyLiteral], trigger: usize, indexes: &mut FxHashMap<u32, Vec<Box<[u32]>>>) -> Box<[JoinStep]> {
     let mut bound: Vec<u32> = Vec::new();
     body[trigger].args.iter().for_each(|a| var_occurrences(a, &mut bound));
     let mut remaining: Vec<usize> = (0..body.len()).filter(|&i| i != trigger).collect();
@@ -2163,7 +2148,15 @@ fn join_order(body: &[BodyLiteral], trigger: usize) -> Box<[JoinStep]> {
         let (pick, _) =
             remaining.iter().enumerate().max_by_key(|&(k, &i)| (score(i), std::cmp::Reverse(k))).expect("not empty");
         let literal = remaining.remove(pick);
-        let lookup = (score(literal) > 0).then_some(0);
+        let positions: Box<[u32]> = bound_positions(&body[literal].args, &bound).collect();
+        let lookup = (!positions.is_empty()).then(|| {
+            let list = indexes.entry(body[literal].view).or_default();
+            let number = list.iter().position(|p| *p == positions).unwrap_or_else(|| {
+                list.push(positions);
+                list.len() - 1
+            });
+            number as u32
+        });
         body[literal].args.iter().for_each(|a| var_occurrences(a, &mut bound));
         order.push(JoinStep { literal: literal as u32, lookup });
     }
