@@ -978,3 +978,51 @@ goal_state([used(t1), used(t2), waved(h1)]).
         assert!(pruned >= 5, "{name}: only {pruned} successors left out over {states} states");
     }
 }
+
+#[test]
+fn checking_one_action_agrees_with_listing_every_applicable_instance() {
+    // `Successors::applies` binds the action's values before matching; `Successors::schema`
+    // lists every instance from scratch. Along plans of four KBs (the standard blocks world,
+    // a grid KB in other authors' style, the depot KB and the paper's case), every step is
+    // checked in the state it is taken in and in the states two steps before and after it,
+    // where it often does not apply.
+    let rungs = [Rung { family: Family::Swap, blocks: 8, arms: 3, seed: 1 }, ladder::grid()[1]];
+    let mut cases: Vec<(String, Frontend)> =
+        rungs.iter().map(|r| (r.name(), from_text("rung.pl", r.source()))).collect();
+    cases.push(("depot".to_string(), depot(true)));
+    cases.push(("paper".to_string(), load(&["examples/02_llm_stacking/test_case.pl"])));
+    let (mut agreed, mut refused) = (0, 0);
+    for (name, frontend) in &cases {
+        let mut task = passes::task::build(&frontend.kb, 0);
+        let options = Options { budget: budget(60), ..Options::default() };
+        let plan = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent)
+            .result
+            .unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));
+        let program = planner::program_for(&frontend.kb, 0);
+        let path = planner::path_of(&mut task, &plan);
+        assert_eq!(path.len(), plan.steps.len(), "{name}");
+        let mut states = vec![task.init.clone()];
+        for action in &path {
+            let next = successors::apply(&mut task, states.last().expect("a state"), action);
+            states.push(next);
+        }
+        let mut checking = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut listing = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut listed = Vec::new();
+        for (k, action) in path.iter().enumerate() {
+            for at in [k.saturating_sub(2), k, (k + 2).min(path.len())] {
+                listed.clear();
+                listing.schema(&mut task, action.schema, &states[at], &mut listed).expect("no engine error");
+                let expected = listed.contains(action);
+                let got = checking.applies(&mut task, action, &states[at]).expect("no engine error");
+                assert_eq!(got, expected, "{name}: step {} in the state before step {}", k + 1, at + 1);
+                assert!(at != k || got, "{name}: step {} applies where the plan takes it", k + 1);
+                agreed += 1;
+                refused += usize::from(!got);
+            }
+        }
+        assert!(planner::is_solution(&mut task, &program, &plan), "{name}");
+    }
+    // The check must have been asked both ways often (468 checks, 285 refused when written).
+    assert!(agreed > 300 && refused > 100, "{agreed} checks, {refused} refused");
+}

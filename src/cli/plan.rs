@@ -62,9 +62,10 @@ pub(super) struct PlanningArgs {
     /// makespan, and keep the best (heuristic search).
     #[arg(long, value_name = "SECONDS")]
     pub(super) improve: Option<f64>,
-    /// Keep the search's choice of arm for each job and its order of jobs (by default the
-    /// heuristic search's plan is rearranged when that shortens its makespan: the `reassign`
-    /// pass).
+    /// Keep the search's choice of arm for each job and its order of jobs, and its waiting
+    /// starts (by default the heuristic search's plan is rearranged when that shortens its
+    /// makespan: the `reassign` pass, which also sends a start that holds an arm waiting
+    /// aside, such as a block moved to a free cell first).
     #[arg(long)]
     pub(super) no_reassign: bool,
     /// Expand every successor the heuristic search generates, even those that differ from

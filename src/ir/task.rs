@@ -344,6 +344,19 @@ pub struct Schema {
 }
 
 impl Schema {
+    /// The variables whose values only a choice gives a start or an instantaneous action:
+    /// bound by no Valid literal (so by an OnKB goal, such as a move's destination, or by the
+    /// name alone) and naming no unit of a resource. None for an end (its running start binds
+    /// it).
+    pub fn chosen_vars(&self) -> Box<[u32]> {
+        if self.snap == Snap::End {
+            return Box::default();
+        }
+        let mut bound = Vec::new();
+        self.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut bound)));
+        (0..self.vars as u32).filter(|v| !bound.contains(v) && !self.resource_vars.contains(v)).collect()
+    }
+
     /// The variables bound by the time effects apply: by the name, the Valid literals and
     /// the OnKB goals (an end's name by its running start).
     pub fn bound_vars(&self) -> Vec<u32> {

@@ -130,11 +130,32 @@ fn unit_of(templates: &[Template<'_>], units: &[(usize, Term)], fact: &Term) -> 
     })
 }
 
-fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
-    let n = plan.steps.len();
-    if n == 0 || pop.steps.len() != n {
-        return None;
+/// The jobs of a plan: each unit's steps from the step that takes it to the one that gives it
+/// back, in plan order (see the module docs), with the units and each step's job.
+pub struct Jobs<'a> {
+    templates: Vec<Template<'a>>,
+    /// Units: (template, term).
+    units: Vec<(usize, Term)>,
+    jobs: Vec<Job>,
+    /// For each step, its job.
+    job_of: Vec<Option<usize>>,
+}
+
+impl Jobs<'_> {
+    /// Each job's steps, in plan order.
+    pub fn steps(&self) -> impl Iterator<Item = &[usize]> {
+        self.jobs.iter().map(|j| j.steps.as_slice())
     }
+
+    /// The job of step `i`, if it is in one.
+    pub fn job_of(&self, i: usize) -> Option<usize> {
+        self.job_of[i]
+    }
+}
+
+/// The jobs of `plan`, or `None` when the pass does not apply to it (see the module docs).
+pub fn jobs<'a>(kb: &'a Kb, plan: &Plan) -> Option<Jobs<'a>> {
+    let n = plan.steps.len();
     // Templates with exactly one variable position.
     let mut templates = Vec::new();
     for resource in &kb.resources {
@@ -169,9 +190,6 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
                 units.push((t, value.clone()));
             }
         }
-    }
-    if units.len() < 2 {
-        return None; // nothing to choose between
     }
     // Jobs, by scanning the plan.
     let mut open: Vec<Option<usize>> = vec![None; units.len()];
@@ -211,6 +229,18 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
     }
     if open.iter().any(Option::is_some) {
         return None; // a job that never gives its unit back
+    }
+    Some(Jobs { templates, units, jobs, job_of })
+}
+
+fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
+    let n = plan.steps.len();
+    if n == 0 || pop.steps.len() != n {
+        return None;
+    }
+    let Jobs { templates, units, jobs, job_of } = jobs(kb, plan)?;
+    if units.len() < 2 {
+        return None; // nothing to choose between
     }
     // Orderings, without those that come from resource facts.
     let through_resource = |literal: &Term| templates.iter().any(|t| unifiable(t.term, literal));

@@ -12,6 +12,7 @@
 
 pub mod analysis;
 pub mod best_first;
+pub mod detour;
 mod ground;
 mod landmarks;
 pub mod paper;
@@ -579,16 +580,20 @@ pub fn replay(task: &mut Task, plan: &Plan) -> Vec<crate::ir::task::State> {
 /// them) and the last state a goal state with nothing left running. Plans the planner did not
 /// find itself (rearranged by `passes::reassign`) are checked with it before they are used.
 pub fn is_solution(task: &mut Task, program: &Program, plan: &Plan) -> bool {
+    let mut successors = Successors::new(task, Machine::new(program, Budget::default().engine_steps));
+    is_solution_with(&mut successors, task, plan)
+}
+
+/// [`is_solution`] with the task's `successors` (whose OnKB cache a caller that checks many
+/// plans keeps from one to the next).
+pub fn is_solution_with(successors: &mut Successors<'_>, task: &mut Task, plan: &Plan) -> bool {
     let path = path_of(task, plan);
     if path.len() != plan.steps.len() {
         return false;
     }
-    let mut successors = Successors::new(task, Machine::new(program, Budget::default().engine_steps));
     let mut state = task.init.clone();
-    let mut applicable = Vec::new();
     for action in &path {
-        applicable.clear();
-        if successors.schema(task, action.schema, &state, &mut applicable).is_err() || !applicable.contains(action) {
+        if successors.applies(task, action, &state) != Ok(true) {
             return false;
         }
         state = successors::apply(task, &state, action);

@@ -529,22 +529,7 @@ impl Relaxation {
             limits: Limits::new(None, usize::MAX),
             dropped: if project { resource_positions(task) } else { FxHashMap::default() },
             filtered: false,
-            chosen_vars: task
-                .schemas
-                .iter()
-                .map(|schema| {
-                    if schema.snap == Snap::End {
-                        return Box::default();
-                    }
-                    let mut bound = Vec::new();
-                    for literal in schema.valid.iter() {
-                        literal.args.iter().for_each(|a| var_occurrences(a, &mut bound));
-                    }
-                    (0..schema.vars as u32)
-                        .filter(|v| !bound.contains(v) && !schema.resource_vars.contains(v))
-                        .collect()
-                })
-                .collect(),
+            chosen_vars: task.schemas.iter().map(Schema::chosen_vars).collect(),
         };
         // Predicates some Invalid literal reads: their deletions can matter to the ground task.
         // A predicate some action deletes with an unbound variable (every fact that unifies

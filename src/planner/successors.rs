@@ -628,6 +628,35 @@ impl<'p> Successors<'p> {
         self.schema_in(task, index, state, None, Some(running), out)
     }
 
+    /// Whether `action` applies in `state`: the applicable instances of its schema include it.
+    /// Its values for the variables of Valid literals are bound before matching (each literal
+    /// is then looked up rather than matched against every fact), so OnKB goals are proven
+    /// with the same arguments bound as when every instance is listed.
+    pub fn applies(&mut self, task: &mut Task, action: &Applicable, state: &State) -> Result<bool, ConditionError> {
+        let Task { consts, facts, schemas, goal_terms, .. } = task;
+        let schema = &schemas[action.schema];
+        self.bindings.clear();
+        self.bindings.resize(schema.vars, None);
+        self.trail.clear();
+        let mut in_valid = Vec::new();
+        schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut in_valid)));
+        for v in in_valid {
+            self.bindings[v as usize] = action.bindings.get(v as usize).copied().flatten();
+        }
+        let mut found = Vec::new();
+        let mut context =
+            Context { consts, facts, goal_terms, schema, index: action.schema, state, order: None, out: &mut found };
+        if schema.snap == Snap::End {
+            let Some(running) = action.ends.filter(|r| state.running.contains(r)) else { return Ok(false) };
+            if name_matches_running(schema, running, context.consts, &mut self.bindings, &mut self.trail) {
+                self.valid(&mut context, 0, Some(running))?;
+            }
+        } else {
+            self.valid(&mut context, 0, None)?;
+        }
+        Ok(found.contains(action))
+    }
+
     /// The applicable instances of schema `index`, with Valid literals matched in `order`'s
     /// order if given; for an end, only those that end `only` if given.
     fn schema_in(

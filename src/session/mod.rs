@@ -981,8 +981,8 @@ impl Session {
         // Plans the search scored come shortest last: the last one that can be scheduled is
         // the one.
         let order: Vec<usize> = if scored { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
-        // (index, schedule, makespan before `reassign`)
-        let mut chosen: Option<(usize, Timed, i64)> = None;
+        // (index, schedule, makespan before `reassign`, starts it sent aside)
+        let mut chosen: Option<(usize, Timed, i64, usize)> = None;
         let mut first_failure: Option<Diagnostics> = None;
         for index in order {
             let plan = &mut plans[index];
@@ -991,21 +991,21 @@ impl Session {
             match temporal::schedule(kb, interner, &program, plan, None, settings.epsilon, &mut attempt) {
                 Some(timed) => {
                     let searched = timed.schedule.makespan;
-                    let timed = if reassign {
-                        let (rearranged, timed) =
-                            temporal::reassign(kb, interner, &program, task, std::mem::take(plan), timed);
-                        *plan = rearranged;
-                        timed
+                    let (timed, sent) = if reassign {
+                        let rearranged =
+                            temporal::reassign(kb, interner, &program, task, (std::mem::take(plan), timed), true);
+                        *plan = rearranged.plan;
+                        (rearranged.timed, rearranged.detours)
                     } else {
-                        timed
+                        (timed, 0)
                     };
                     let better =
-                        chosen.as_ref().is_none_or(|(_, best, _)| timed.schedule.makespan < best.schedule.makespan);
+                        chosen.as_ref().is_none_or(|(_, best, _, _)| timed.schedule.makespan < best.schedule.makespan);
                     if better {
                         if chosen.is_none() {
                             self.diagnostics.extend(attempt); // warnings, once
                         }
-                        chosen = Some((index, timed, searched));
+                        chosen = Some((index, timed, searched, sent));
                     }
                     if settings.improve.is_none() || scored {
                         break;
@@ -1019,7 +1019,7 @@ impl Session {
                 }
             }
         }
-        let Some((index, timed, searched)) = chosen else {
+        let Some((index, timed, searched, sent)) = chosen else {
             self.diagnostics.extend(first_failure.unwrap_or_default());
             if plans.len() > 1 {
                 self.diagnostics.push(Diagnostic::note(format!(
@@ -1030,7 +1030,12 @@ impl Session {
             return Err(PlanError::Unschedulable);
         };
         if timed.schedule.makespan < searched {
-            origin = format!("{origin}, jobs reassigned from a makespan of {}", crate::ir::stn::format_time(searched));
+            let searched = crate::ir::stn::format_time(searched);
+            origin = match sent {
+                0 => format!("{origin}, jobs reassigned from a makespan of {searched}"),
+                1 => format!("{origin}, jobs reassigned from a makespan of {searched}, 1 waiting start sent aside"),
+                n => format!("{origin}, jobs reassigned from a makespan of {searched}, {n} waiting starts sent aside"),
+            };
         }
         Ok(Planned { problem, plans, index, timed, origin, stats, refinement: None })
     }
@@ -1080,14 +1085,26 @@ impl Session {
         Some((stn, schedule))
     }
 
-    /// The `reassign` pass on a scheduled plan: the plan and schedule kept (the given ones
-    /// when no rearrangement is shorter).
+    /// The `reassign` pass on a scheduled plan, with its detours (waiting starts sent aside,
+    /// [`crate::planner::detour`]), as `kbc plan` runs it: the plan and schedule kept (the
+    /// given ones when no rearrangement is shorter).
     pub fn reassign(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
+        self.rearrange(plan, timed, true)
+    }
+
+    /// The `reassign` pass without detours: the same steps, each job given to a unit again.
+    pub fn reassign_jobs(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
+        self.rearrange(plan, timed, false)
+    }
+
+    fn rearrange(&mut self, plan: Plan, timed: Timed, detours: bool) -> (Plan, Timed) {
         let problem = plan.problem;
         let program = self.program(problem);
         self.task(problem);
         let task = self.tasks[problem].as_mut().expect("built above");
-        temporal::reassign(&self.frontend.kb, &self.frontend.interner, &program, task, plan, timed)
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let rearranged = temporal::reassign(kb, interner, &program, task, (plan, timed), detours);
+        (rearranged.plan, rearranged.timed)
     }
 
     /// The behaviour tree of a scheduled plan.

@@ -88,52 +88,225 @@ pub(crate) fn schedule(
 /// How many times [`reassign`] rearranges a plan it has just improved.
 const REASSIGN_ROUNDS: usize = 4;
 
-/// Runs the `reassign` pass on a scheduled plan and keeps what it gains: each candidate, best
-/// estimate first, is checked step by step under the search's semantics
-/// ([`crate::planner::is_solution`]) and scheduled by the temporal passes; the first whose
-/// makespan is shorter replaces the plan, and the pass runs again on it, up to
-/// [`REASSIGN_ROUNDS`] times. Returns the plan and schedule kept (the given ones when nothing
-/// was shorter).
+/// How many times [`reassign`] rearranges a plan with detours before it is compared with
+/// the plan without them. (One round gave the same makespans as four on the ladder's 30 to
+/// 100 block rungs, in three quarters of the time.)
+const DETOUR_REASSIGN_ROUNDS: usize = 1;
+
+/// How many times [`reassign`] sends held starts aside in a plan it has just improved.
+const DETOUR_ROUNDS: usize = 4;
+
+/// The waits (in multiples of the job's own length) from which a held start is sent aside:
+/// one candidate plan each.
+const DETOUR_FACTORS: [i64; 3] = [1, 2, 4];
+
+/// How many times a rewrite that fails drops the detour it blames and tries again.
+const DETOUR_RETRIES: usize = 16;
+
+/// Runs the `reassign` pass on a scheduled plan and keeps what it gains, then sends held
+/// starts aside ([`crate::planner::detour`]) where that shortens the plan further.
+///
+/// Reassigning: each candidate, best estimate first, is checked step by step under the
+/// search's semantics ([`crate::planner::is_solution`]) and scheduled by the temporal passes;
+/// the first whose makespan is shorter replaces the plan, and the pass runs again on it, up
+/// to [`REASSIGN_ROUNDS`] times.
+///
+/// Detours: a start whose end waits, beyond its minimum duration, longer than its job takes
+/// without the wait (see [`held`]) holds a unit idle; the plan with every such start sent
+/// aside (and those waiting two and four times as long, as two more candidates) is
+/// rewritten, scheduled and reassigned, and the shortest replaces the plan when it is shorter
+/// than the plan, up to [`DETOUR_ROUNDS`] times. Returns the plan and schedule kept (the
+/// given ones when nothing was shorter).
 pub(crate) fn reassign(
     kb: &Kb,
     interner: &Interner,
     program: &crate::engine::Program,
     task: &mut crate::ir::task::Task,
-    plan: crate::ir::plan::Plan,
-    timed: Timed,
-) -> (crate::ir::plan::Plan, Timed) {
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+    with_detours: bool,
+) -> Rearranged {
     let before = timed.schedule.makespan;
-    let rounds = || {
-        let (mut plan, mut timed) = (plan, timed);
-        for _ in 0..REASSIGN_ROUNDS {
-            let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
-            let mut improved = false;
-            for candidate in candidates {
-                if candidate.estimate >= timed.schedule.makespan
-                    || !crate::planner::is_solution(task, program, &candidate.plan)
-                {
-                    continue;
-                }
-                let mut diags = Diagnostics::new();
-                if let Some(scheduled) =
-                    schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
-                    && scheduled.schedule.makespan < timed.schedule.makespan
-                {
-                    (plan, timed) = (candidate.plan, scheduled);
-                    improved = true;
-                    break;
-                }
+    // One generator for every plan checked, so that OnKB goals are proven once.
+    let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
+    let mut successors = crate::planner::successors::Successors::new(task, engine);
+    let (plan, timed) = super::timing::time(
+        "reassign",
+        || rearrange(kb, interner, program, &mut successors, task, (plan, timed), REASSIGN_ROUNDS),
+        |(_, timed)| {
+            let (from, to) = (before, timed.schedule.makespan);
+            format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
+        },
+    );
+    if !with_detours {
+        return Rearranged { plan, timed, detours: 0 };
+    }
+    let before = timed.schedule.makespan;
+    super::timing::time(
+        "detour",
+        || detours(kb, interner, program, &mut successors, task, (plan, timed)),
+        |rearranged| {
+            let (from, to) = (before, rearranged.timed.schedule.makespan);
+            let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
+            format!("makespan {from} -> {to}, {} starts sent aside", rearranged.detours)
+        },
+    )
+}
+
+/// What [`reassign`] kept.
+pub(crate) struct Rearranged {
+    /// The plan.
+    pub plan: crate::ir::plan::Plan,
+    /// Its schedule.
+    pub timed: Timed,
+    /// How many held starts it sent aside.
+    pub detours: usize,
+}
+
+/// The reassigning rounds of [`reassign`], at most `rounds`.
+fn rearrange(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    successors: &mut crate::planner::successors::Successors<'_>,
+    task: &mut crate::ir::task::Task,
+    (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
+    rounds: usize,
+) -> (crate::ir::plan::Plan, Timed) {
+    for _ in 0..rounds {
+        let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
+        let mut improved = false;
+        for candidate in candidates {
+            if candidate.estimate >= timed.schedule.makespan
+                || !crate::planner::is_solution_with(successors, task, &candidate.plan)
+            {
+                continue;
             }
-            if !improved {
+            let mut diags = Diagnostics::new();
+            if let Some(scheduled) =
+                schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
+                && scheduled.schedule.makespan < timed.schedule.makespan
+            {
+                (plan, timed) = (candidate.plan, scheduled);
+                improved = true;
                 break;
             }
         }
-        (plan, timed)
+        if !improved {
+            break;
+        }
+    }
+    (plan, timed)
+}
+
+/// The detour rounds of [`reassign`].
+fn detours(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    successors: &mut crate::planner::successors::Successors<'_>,
+    task: &mut crate::ir::task::Task,
+    (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
+) -> Rearranged {
+    use crate::planner::detour::{self, Failure};
+    let mut sent = 0;
+    let mut machine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
+    let mut cost = |action: usize, name: &hir::Term| -> i64 {
+        let running = hir::Term::Compound(kb.actions[action].base, name.args().iter().cloned().collect());
+        match crate::passes::stn::query_duration(&mut machine, &running) {
+            Ok(Some((min, _))) => crate::passes::stn::to_stn_time(min).unwrap_or(i64::MAX),
+            _ => i64::MAX,
+        }
     };
-    super::timing::time("reassign", rounds, |(_, timed)| {
-        let (from, to) = (before, timed.schedule.makespan);
-        format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
-    })
+    for _ in 0..DETOUR_ROUNDS {
+        let waiting = held(kb, &plan, &timed);
+        let mut tried: Vec<Vec<detour::Held>> = Vec::new();
+        // The starts sent aside by each rewrite made.
+        let mut taken: Vec<Vec<usize>> = Vec::new();
+        // (plan, schedule, starts sent aside)
+        let mut best: Option<(crate::ir::plan::Plan, Timed, usize)> = None;
+        for factor in DETOUR_FACTORS {
+            let mut set: Vec<detour::Held> = waiting
+                .iter()
+                .filter(|(wait, length, _)| *wait > factor * *length)
+                .map(|(_, _, h)| h.clone())
+                .collect();
+            if set.is_empty() || tried.contains(&set) {
+                continue;
+            }
+            tried.push(set.clone());
+            let mut rewritten = None;
+            for _ in 0..DETOUR_RETRIES {
+                match detour::rewrite(successors, task, &plan, &set, &mut cost) {
+                    Ok(found) => {
+                        // (The same detours as a candidate tried already: the same plan.)
+                        let starts: Vec<usize> = found.taken.iter().map(|&d| set[d].start).collect();
+                        if !starts.is_empty() && !taken.contains(&starts) {
+                            rewritten = Some((found.plan, starts.len()));
+                            taken.push(starts);
+                        }
+                        break;
+                    }
+                    Err(Failure::Detour(d)) => {
+                        set.remove(d);
+                    }
+                    Err(Failure::Plan) => break,
+                }
+                if set.is_empty() {
+                    break;
+                }
+            }
+            let Some((rewritten, count)) = rewritten else { continue };
+            let mut diags = Diagnostics::new();
+            let Some(scheduled) = schedule(kb, interner, program, &rewritten, None, timed.stn.epsilon, &mut diags)
+            else {
+                continue;
+            };
+            let (rewritten, scheduled) =
+                rearrange(kb, interner, program, successors, task, (rewritten, scheduled), DETOUR_REASSIGN_ROUNDS);
+            let shortest = best.as_ref().map_or(timed.schedule.makespan, |(_, t, _)| t.schedule.makespan);
+            if scheduled.schedule.makespan < shortest {
+                best = Some((rewritten, scheduled, count));
+            }
+        }
+        match best {
+            Some((found, scheduled, count)) => {
+                (plan, timed) = (found, scheduled);
+                sent += count;
+            }
+            None => break,
+        }
+    }
+    Rearranged { plan, timed, detours: sent }
+}
+
+/// The starts of `plan` whose ends wait: for each job (see [`crate::passes::reassign::jobs`])
+/// the start in it whose end comes latest after its minimum duration, with that wait and the
+/// time the job takes without it, when the wait is positive.
+fn held(kb: &Kb, plan: &crate::ir::plan::Plan, timed: &Timed) -> Vec<(i64, i64, crate::planner::detour::Held)> {
+    let Some(jobs) = crate::passes::reassign::jobs(kb, plan) else { return Vec::new() };
+    let earliest = &timed.schedule.earliest;
+    let mut found = Vec::new();
+    for steps in jobs.steps() {
+        let (Some(&first), Some(&last)) = (steps.first(), steps.last()) else { continue };
+        let mut longest: Option<(i64, usize, usize)> = None;
+        for &end in steps {
+            let Some(start) = timed.pop.steps[end].start else { continue };
+            if !steps.contains(&start) {
+                continue;
+            }
+            let min = timed.stn.durations[start].map_or(0, |b| b.min);
+            let wait = earliest[end] - earliest[start] - min;
+            if wait > 0 && longest.is_none_or(|(w, _, _)| wait > w) {
+                longest = Some((wait, start, end));
+            }
+        }
+        let Some((wait, start, end)) = longest else { continue };
+        let length = earliest[last] - earliest[first] - wait;
+        let head = steps.iter().copied().filter(|&k| k < start).collect();
+        let tail = steps.iter().copied().filter(|&k| k > end).collect();
+        found.push((wait, length.max(1), crate::planner::detour::Held { start, end, head, tail }));
+    }
+    found
 }
 
 /// The makespan `kbc plan` gives a plan the heuristic search found: scheduled by the temporal
@@ -153,8 +326,8 @@ pub struct ReassignedMakespan<'a> {
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
-        let (_, timed) = reassign(self.kb, self.interner, self.program, task, plan.clone(), timed);
-        Some(timed.schedule.makespan)
+        let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), true);
+        Some(rearranged.timed.schedule.makespan)
     }
 }
 
