@@ -278,7 +278,9 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   two cycles or more, at least the least work of such a round trip over the table's cells
 ///   (shortest paths, each step a cycle). (A block whose goal support starts below it and
 ///   must move too needs only one: its move can lift it before the support is gripped and
-///   put it down after the support is placed.) The arms share the sum: `ceil(sum / arms)`.
+///   put it down after the support is placed.) Blocks that must leave before any goal tower
+///   can start and cannot all stay in the arms are put down on their way, and move again
+///   (`aside`, see `Rung::put_aside`). The arms share the sum: `ceil(sum / arms)`.
 /// - `block`: one block's cycles run one after another, so the longest block's work.
 /// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
@@ -293,6 +295,9 @@ pub struct LowerBound {
     pub block: i64,
     /// The longest chain a goal tower forces.
     pub chain: i64,
+    /// The least work, included in `work`, that blocks put down on their way add: those that
+    /// must leave before any goal tower can start and cannot all stay in the arms.
+    pub aside: i64,
 }
 
 impl Rung {
@@ -324,7 +329,7 @@ impl Rung {
             let arms = self.arms.max(1) as i64;
             let work = (works.iter().sum::<i64>() + arms - 1) / arms;
             let block = works.iter().copied().max().unwrap_or(0);
-            return LowerBound { makespan: work.max(block), work, block, chain: 0 };
+            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0 };
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
@@ -399,7 +404,21 @@ impl Rung {
         }
         let total: i64 = works.values().sum();
         let arms = self.arms.max(1) as i64;
-        let work = (total + arms - 1) / arms;
+        let aside = self.put_aside(&init, &goal, &works, |b, start, target| {
+            let (s, t) = (cells.iter().position(|&c| c == start), cells.iter().position(|&c| c == target));
+            let (Some(s), Some(t)) = (s, t) else { return 0 };
+            // The least work of reaching the target from a first move elsewhere.
+            let via = (0..n)
+                .filter(|&p| p != s)
+                .map(|p| {
+                    let rest = if p == t { round_trip(target) } else { path[p * n + t] };
+                    cycle[s * n + p].saturating_add(rest)
+                })
+                .min()
+                .unwrap_or(i64::MAX);
+            if via == i64::MAX { 0 } else { (via - works[&b]).max(0) }
+        });
+        let work = (total + aside + arms - 1) / arms;
         let block = works.values().copied().max().unwrap_or(0);
         let mut chain = 0;
         for (_, tower) in &goal {
@@ -408,7 +427,60 @@ impl Rung {
                 chain = chain.max(works[&tower[first]] + above * release);
             }
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside }
+    }
+
+    /// The least work that blocks put down before their goal places add, beyond each block's
+    /// own least work (`works`); `extra(b, start, target)` is what block `b`'s goal costs it
+    /// more when its first move ends elsewhere than its goal place.
+    ///
+    /// Let t* be the first time a goal tower's bottom that is not in place at the start is put
+    /// on its goal cell, and f that bottom. Its cell was empty then: every block that started
+    /// on it had been lifted; so had every block that started above f (f is gripped only when
+    /// clear). Each of those (but f) whose goal tower's bottom is not in place at the start
+    /// cannot be at its goal place before t* (its tower has no bottom yet), and was either in
+    /// the air, holding one of the arms but f's, or put down elsewhere, to move again. So at
+    /// least `|S| - (arms - 1)` of them move twice, at the cost of the cheapest such; f is
+    /// unknown, so the least over every goal tower.
+    fn put_aside(
+        &self,
+        init: &[Tower],
+        goal: &[Tower],
+        works: &std::collections::BTreeMap<usize, i64>,
+        mut extra: impl FnMut(usize, (usize, usize), (usize, usize)) -> i64,
+    ) -> i64 {
+        let start_of = |b: usize| init.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t));
+        let goal_cell = |b: usize| goal.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t[0]));
+        let mut least: Option<i64> = None;
+        for (cell, tower) in goal {
+            let f = tower[0];
+            if works[&f] == 0 {
+                continue; // in place at the start
+            }
+            let Some((_, f_tower)) = start_of(f) else { continue };
+            let level = f_tower.iter().position(|&b| b == f).expect("f is in its tower");
+            let mut lifted: Vec<usize> = f_tower[level + 1..].to_vec();
+            if let Some((_, on_cell)) = init.iter().find(|(c, _)| c == cell) {
+                lifted.extend(on_cell.iter().copied().filter(|&b| b != f));
+            }
+            lifted.sort_unstable();
+            lifted.dedup();
+            // Those that cannot be at their goal places before t*.
+            let mut costs: Vec<i64> = lifted
+                .into_iter()
+                .filter(|&b| goal_cell(b).is_some_and(|(_, bottom)| works[&bottom] > 0))
+                .map(|b| {
+                    let (start, _) = start_of(b).expect("every block starts somewhere");
+                    let (target, _) = goal_cell(b).expect("every block has a goal");
+                    extra(b, start, target)
+                })
+                .collect();
+            let down = costs.len().saturating_sub(self.arms.saturating_sub(1));
+            costs.sort_unstable();
+            let sum: i64 = costs[..down].iter().sum();
+            least = Some(least.map_or(sum, |l| l.min(sum)));
+        }
+        least.unwrap_or(0)
     }
 }
 
