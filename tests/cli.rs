@@ -902,3 +902,24 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
     assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));
 }
+
+#[test]
+fn a_second_search_with_the_lookahead_is_kept_only_when_shorter() {
+    // reverse_b10_a4_s1 takes the plain search 300 expansions or more, so `kbc plan` also
+    // searches with the lookahead; it kept that plan when written (28.022 against 34.028).
+    let rung = Rung::write("reverse_b10_a4_s1", "second-search");
+    let kb = rung.kb.as_str();
+    let default = stdout(&kbc(&["plan", kb, "--schedule"]));
+    let plain = stdout(&kbc(&["plan", kb, "--schedule", "--lookahead=off"]));
+    let ahead = stdout(&kbc(&["plan", kb, "--schedule", "--lookahead=on"]));
+    assert!(!plain.contains("with lookahead") && !ahead.contains("shorter than without"), "{plain}\n{ahead}");
+    let best = makespan_of(&plain).min(makespan_of(&ahead));
+    assert_eq!(makespan_of(&default), best, "the shorter of the two searches");
+    assert!(default.contains("heuristic search with lookahead, shorter than without"), "{default}");
+    assert_eq!(plan_lines(&default), plan_lines(&stdout(&kbc(&["plan", kb, "--schedule"]))), "deterministic");
+    let check = validate_text(kb, &default, "second-search");
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    // Without `reassign` the search's own plan is kept.
+    let kept = stdout(&kbc(&["plan", kb, "--schedule", "--no-reassign"]));
+    assert!(!kept.contains("with lookahead"), "{kept}");
+}
