@@ -128,10 +128,11 @@ pub(crate) fn reassign(
     let before = timed.schedule.makespan;
     // One generator for every plan checked, so that OnKB goals are proven once.
     let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
-    let mut successors = crate::planner::successors::Successors::new(task, engine);
+    let successors = crate::planner::successors::Successors::new(task, engine);
+    let mut cx = Rearranging { kb, interner, program, successors, task };
     let (plan, timed) = super::timing::time(
         "reassign",
-        || rearrange(kb, interner, program, &mut successors, task, (plan, timed), REASSIGN_ROUNDS),
+        || rearrange(&mut cx, (plan, timed), REASSIGN_ROUNDS),
         |(_, timed)| {
             let (from, to) = (before, timed.schedule.makespan);
             format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
@@ -143,7 +144,7 @@ pub(crate) fn reassign(
     let before = timed.schedule.makespan;
     super::timing::time(
         "detour",
-        || detours(kb, interner, program, &mut successors, task, (plan, timed)),
+        || detours(&mut cx, (plan, timed)),
         |rearranged| {
             let (from, to) = (before, rearranged.timed.schedule.makespan);
             let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
@@ -163,21 +164,29 @@ pub(crate) struct Rearranged {
 }
 
 /// The reassigning rounds of [`reassign`], at most `rounds`.
+/// What [`rearrange`] and [`detours`] work with: the KB, its names, the problem's program,
+/// one generator of applicable actions for every plan checked (OnKB goals proven once) and
+/// the task.
+struct Rearranging<'a, 'p> {
+    kb: &'a Kb,
+    interner: &'a Interner,
+    program: &'p crate::engine::Program,
+    successors: crate::planner::successors::Successors<'p>,
+    task: &'a mut crate::ir::task::Task,
+}
+
 fn rearrange(
-    kb: &Kb,
-    interner: &Interner,
-    program: &crate::engine::Program,
-    successors: &mut crate::planner::successors::Successors<'_>,
-    task: &mut crate::ir::task::Task,
+    cx: &mut Rearranging<'_, '_>,
     (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
     rounds: usize,
 ) -> (crate::ir::plan::Plan, Timed) {
+    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
     for _ in 0..rounds {
         let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn);
         let mut improved = false;
         for candidate in candidates {
             if candidate.estimate >= timed.schedule.makespan
-                || !crate::planner::is_solution_with(successors, task, &candidate.plan)
+                || !crate::planner::is_solution_with(&mut cx.successors, cx.task, &candidate.plan)
             {
                 continue;
             }
@@ -199,15 +208,9 @@ fn rearrange(
 }
 
 /// The detour rounds of [`reassign`].
-fn detours(
-    kb: &Kb,
-    interner: &Interner,
-    program: &crate::engine::Program,
-    successors: &mut crate::planner::successors::Successors<'_>,
-    task: &mut crate::ir::task::Task,
-    (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
-) -> Rearranged {
+fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan::Plan, Timed)) -> Rearranged {
     use crate::planner::detour::{self, Failure};
+    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
     let mut sent = 0;
     let mut machine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
     let mut cost = |action: usize, name: &hir::Term| -> i64 {
@@ -236,7 +239,7 @@ fn detours(
             tried.push(set.clone());
             let mut rewritten = None;
             for _ in 0..DETOUR_RETRIES {
-                match detour::rewrite(successors, task, &plan, &set, &mut cost) {
+                match detour::rewrite(&mut cx.successors, cx.task, &plan, &set, &mut cost) {
                     Ok(found) => {
                         // (The same detours as a candidate tried already: the same plan.)
                         let starts: Vec<usize> = found.taken.iter().map(|&d| set[d].start).collect();
@@ -261,8 +264,7 @@ fn detours(
             else {
                 continue;
             };
-            let (rewritten, scheduled) =
-                rearrange(kb, interner, program, successors, task, (rewritten, scheduled), DETOUR_REASSIGN_ROUNDS);
+            let (rewritten, scheduled) = rearrange(cx, (rewritten, scheduled), DETOUR_REASSIGN_ROUNDS);
             let shortest = best.as_ref().map_or(timed.schedule.makespan, |(_, t, _)| t.schedule.makespan);
             if scheduled.schedule.makespan < shortest {
                 best = Some((rewritten, scheduled, count));
