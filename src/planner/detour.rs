@@ -255,10 +255,8 @@ impl Rewriter<'_, '_> {
         if positions.is_empty() {
             return None;
         }
-        let original = self.names[h.start].clone();
-        let args = |t: &Term| -> Vec<Term> { t.args().to_vec() };
-        let wanted = args(&original);
-        let mut alternatives = self.family(task, start.schema, state, |name| {
+        let wanted = self.names[h.start].args().to_vec();
+        let alternatives = self.family(task, start.schema, state, |name| {
             let a = name.args();
             a.len() == wanted.len()
                 && (0..a.len()).all(|p| positions.contains(&p) || a[p] == wanted[p])
@@ -272,7 +270,7 @@ impl Rewriter<'_, '_> {
             .map(|k| positions.iter().map(|&p| self.names[k].args()[p].clone()).collect())
             .collect();
         let mut ranked: Vec<(i64, usize, Applicable)> = alternatives
-            .drain(..)
+            .into_iter()
             .enumerate()
             .filter_map(|(i, a)| {
                 let name = successors::action_name(task, &a);
@@ -287,26 +285,31 @@ impl Rewriter<'_, '_> {
             let Some(finish) = self.end_of(task, &alternative, end, &next) else { continue };
             next = successors::apply(task, &next, &finish);
             let mut steps = vec![alternative, finish];
-            let mut complete = true;
-            for &t in &h.tail {
-                match self.same(task, path, t, &next) {
-                    Some(step) => {
-                        next = successors::apply(task, &next, &step);
-                        steps.push(step);
-                    }
-                    None => {
-                        complete = false;
-                        break;
-                    }
-                }
-            }
-            if complete {
+            if self.again(task, path, &h.tail, &mut next, &mut steps) {
                 let name = successors::action_name(task, &steps[0]);
                 let values = positions.iter().map(|&p| name.args()[p].clone()).collect();
                 return Some((steps, next, values));
             }
         }
         None
+    }
+
+    /// Takes the plan's steps `ks` again from `state`, each the applicable action named as
+    /// it is, onto `steps`; false when one does not apply.
+    fn again(
+        &mut self,
+        task: &mut Task,
+        path: &[Applicable],
+        ks: &[usize],
+        state: &mut State,
+        steps: &mut Vec<Applicable>,
+    ) -> bool {
+        for &k in ks {
+            let Some(step) = self.same(task, path, k, state) else { return false };
+            *state = successors::apply(task, state, &step);
+            steps.push(step);
+        }
+        true
     }
 
     /// The second part of detour `h` in `state`, at the original end's place: the job's head
@@ -320,10 +323,8 @@ impl Rewriter<'_, '_> {
     ) -> Option<(Vec<Applicable>, State)> {
         let mut next = state.clone();
         let mut steps = Vec::new();
-        for &t in &h.head {
-            let step = self.same(task, path, t, &next)?;
-            next = successors::apply(task, &next, &step);
-            steps.push(step);
+        if !self.again(task, path, &h.head, &mut next, &mut steps) {
+            return None;
         }
         let start = &path[h.start];
         let positions = chosen_positions(task, start.schema);
