@@ -320,7 +320,9 @@ fn replans_after_a_fault_are_reassigned_too() {
 
 #[test]
 fn reassigned_schedules_say_so_and_validate() {
-    let rung = Rung::write("reverse_b08_a3_s1", "reassign");
+    // (A rung whose plan is the first search's: where a second search with the lookahead is
+    // kept, `--no-reassign`, which runs no second search, schedules another plan.)
+    let rung = Rung::write("reverse_b06_a3_s1", "reassign");
     let kb = rung.kb.as_str();
     let reassigned = kbc(&["plan", kb, "--schedule"]);
     let kept = kbc(&["plan", kb, "--schedule", "--no-reassign"]);
@@ -870,8 +872,10 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let build = kbc(&["build", "-v", file, "--emit", "bt-xml"]);
     assert_eq!(build.status.code(), Some(0));
     let passes = verbose_passes(&stderr(&build));
-    let expected =
-        ["parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "detour", "bt", "codegen"];
+    let expected = [
+        "parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "relocate", "detour",
+        "relocate", "bt", "codegen",
+    ];
     assert_eq!(passes[..expected.len()], expected, "{passes:?}");
     assert!(stdout(&build).starts_with("<?xml"), "the output itself is unchanged");
     // The search's line says what it found and what it cost.

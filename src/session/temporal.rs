@@ -103,6 +103,17 @@ const DETOUR_FACTORS: [i64; 3] = [1, 2, 4];
 /// How many times a rewrite that fails drops the detour it blames and tries again.
 const DETOUR_RETRIES: usize = 16;
 
+/// What [`reassign`] may change besides who does each job.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Moves {
+    /// Nothing: each job given to a unit again.
+    Jobs,
+    /// Also where starts that leave a unit somewhere for a while leave it (relocations).
+    Relocations,
+    /// Also relocations and detours: everything `kbc plan` does.
+    All,
+}
+
 /// Runs the `reassign` pass on a scheduled plan and keeps what it gains, then sends held
 /// starts aside ([`crate::planner::detour`]) where that shortens the plan further.
 ///
@@ -123,7 +134,7 @@ pub(crate) fn reassign(
     program: &crate::engine::Program,
     task: &mut crate::ir::task::Task,
     (plan, timed): (crate::ir::plan::Plan, Timed),
-    with_detours: bool,
+    moves: Moves,
 ) -> Rearranged {
     let before = timed.schedule.makespan;
     // One generator for every plan checked, so that OnKB goals are proven once.
@@ -138,17 +149,42 @@ pub(crate) fn reassign(
             format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
         },
     );
-    if !with_detours {
-        return Rearranged { plan, timed, detours: 0 };
+    if moves == Moves::Jobs {
+        return Rearranged { plan, timed, detours: 0, relocated: 0 };
+    }
+    // Relocating before the detours gives them shorter moves to work from; after them, the
+    // places they chose are relocated in turn.
+    let (plan, timed, relocated) = relocate(&mut cx, (plan, timed));
+    if moves == Moves::Relocations {
+        return Rearranged { plan, timed, detours: 0, relocated };
     }
     let before = timed.schedule.makespan;
-    super::timing::time(
+    let Rearranged { plan, timed, detours, .. } = super::timing::time(
         "detour",
         || detours(&mut cx, (plan, timed)),
         |rearranged| {
             let (from, to) = (before, rearranged.timed.schedule.makespan);
             let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
             format!("makespan {from} -> {to}, {} starts sent aside", rearranged.detours)
+        },
+    );
+    let (plan, timed, again) = relocate(&mut cx, (plan, timed));
+    Rearranged { plan, timed, detours, relocated: relocated + again }
+}
+
+/// [`relocations`] as a pass of its own in `-v`'s list.
+fn relocate(
+    cx: &mut Rearranging<'_, '_>,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
+    let before = timed.schedule.makespan;
+    super::timing::time(
+        "relocate",
+        || relocations(cx, (plan, timed)),
+        |(_, timed, relocated)| {
+            let (from, to) = (before, timed.schedule.makespan);
+            let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
+            format!("makespan {from} -> {to}, {relocated} starts relocated")
         },
     )
 }
@@ -161,6 +197,8 @@ pub(crate) struct Rearranged {
     pub timed: Timed,
     /// How many held starts it sent aside.
     pub detours: usize,
+    /// How many starts it sent somewhere cheaper ([`crate::planner::detour::relocate`]).
+    pub relocated: usize,
 }
 
 /// The reassigning rounds of [`reassign`], at most `rounds`.
@@ -212,14 +250,7 @@ fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan
     use crate::planner::detour::{self, Failure};
     let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
     let mut sent = 0;
-    let mut machine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
-    let mut cost = |action: usize, name: &hir::Term| -> i64 {
-        let running = hir::Term::Compound(kb.actions[action].base, name.args().iter().cloned().collect());
-        match crate::passes::stn::query_duration(&mut machine, &running) {
-            Ok(Some((min, _))) => crate::passes::stn::to_stn_time(min).unwrap_or(i64::MAX),
-            _ => i64::MAX,
-        }
-    };
+    let mut cost = least_duration(kb, program);
     for _ in 0..DETOUR_ROUNDS {
         let waiting = held(kb, &plan, &timed);
         let mut tried: Vec<Vec<detour::Held>> = Vec::new();
@@ -278,7 +309,48 @@ fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan
             None => break,
         }
     }
-    Rearranged { plan, timed, detours: sent }
+    Rearranged { plan, timed, detours: sent, relocated: 0 }
+}
+
+/// The least duration (STN time) of the durative action of index `action` (in
+/// `Kb::actions`) that a start named `name` begins; `i64::MAX` when the KB gives none.
+fn least_duration<'p>(kb: &'p Kb, program: &'p crate::engine::Program) -> impl FnMut(usize, &hir::Term) -> i64 + 'p {
+    let mut machine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
+    move |action: usize, name: &hir::Term| -> i64 {
+        let running = hir::Term::Compound(kb.actions[action].base, name.args().iter().cloned().collect());
+        match crate::passes::stn::query_duration(&mut machine, &running) {
+            Ok(Some((min, _))) => crate::passes::stn::to_stn_time(min).unwrap_or(i64::MAX),
+            _ => i64::MAX,
+        }
+    }
+}
+
+/// The relocating step of [`reassign`]: the plan with its starts that leave a unit somewhere
+/// for a while sent somewhere cheaper ([`crate::planner::detour::relocate`]), scheduled and
+/// reassigned, kept when its schedule is shorter; with how many starts it relocated.
+fn relocations(
+    cx: &mut Rearranging<'_, '_>,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
+    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
+    let mut cost = least_duration(kb, program);
+    let found = crate::planner::detour::relocate(&mut cx.successors, cx.task, &plan, &mut cost);
+    let Ok(found) = found else {
+        return (plan, timed, 0);
+    };
+    if found.taken.is_empty() {
+        return (plan, timed, 0);
+    }
+    let mut diags = Diagnostics::new();
+    let Some(scheduled) = schedule(kb, interner, program, &found.plan, None, timed.stn.epsilon, &mut diags) else {
+        return (plan, timed, 0);
+    };
+    let (relocated, scheduled) = rearrange(cx, (found.plan, scheduled), DETOUR_REASSIGN_ROUNDS);
+    if scheduled.schedule.makespan < timed.schedule.makespan {
+        (relocated, scheduled, found.taken.len())
+    } else {
+        (plan, timed, 0)
+    }
 }
 
 /// The starts of `plan` whose ends wait: for each job (see [`crate::passes::reassign::jobs`])
@@ -328,7 +400,7 @@ pub struct ReassignedMakespan<'a> {
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
-        let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), true);
+        let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), Moves::All);
         Some(rearranged.timed.schedule.makespan)
     }
 }
