@@ -144,17 +144,21 @@ const RELOCATION_RETRIES: usize = 16;
 /// cheaper: where the search put a block aside on a far cell, the nearest free one.
 ///
 /// A start is *relocatable* when its chosen values ([`chosen_positions`]) are named, at
-/// other positions, by a later start of the same action (the move that takes the block off
-/// that cell again). Replaying the plan, each such start is replaced by the alternative with
-/// other chosen values and the same other arguments whose least duration (`cost`) is the
-/// least, below the original's, whose end could apply at once, and that no other start of
-/// the action takes while the unit would be there. A later step that no longer applies as it
-/// is named, but names the old values, is taken with the new ones instead (the end of the
-/// move, and the move off the cell). A step that still fails blames the relocation whose new
-/// values it names (else the latest), whose alternative is banned before the plan is
-/// replayed again, up to [`RELOCATION_RETRIES`] times. `Rewritten::taken` lists the plan
-/// indices of the starts relocated. Every step comes from the applicable actions of the
-/// state reached, so the result is a valid plan; nothing in it is specific to a domain.
+/// other positions, by a later start of the same action that also names what it moves (the
+/// move that takes the same block off that cell again). Replaying the plan in order, each
+/// such start is taken as the instance with the same other arguments whose least duration
+/// (`cost`) is least (its own values first among equals) among those whose chosen values no
+/// start running then has taken and whose end could apply at once (its own values need not:
+/// they may wait, as in the plan). A place given to a relocated unit stays its own until the
+/// unit leaves, since the plan's other starts may count on it. A later step that no longer
+/// applies is taken as the applicable instance named as it is (a grip where the block now
+/// stands), or named with a relocation's new values instead of its old ones (the end of the
+/// move, the move off the cell and its end). A step that still fails, or a relocatable start
+/// with no instance left, blames the relocation whose new values it names (else the latest),
+/// whose choice is banned before the plan is replayed again, up to [`RELOCATION_RETRIES`]
+/// times. `Rewritten::taken` lists the plan indices of the starts relocated. Every step comes
+/// from the applicable actions of the state reached, so the result is a valid plan; nothing
+/// in it is specific to a domain.
 pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
