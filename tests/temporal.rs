@@ -485,6 +485,35 @@ fn count_steps(session: &Session, plan: &Plan, prefix: &str) -> usize {
     plan.steps.iter().filter(|s| kbc::ir::hir::term_to_string(interner, &s.name, &no_vars).starts_with(prefix)).count()
 }
 
+/// The search's plan for a problem, reassigning alone's plan and schedule, and what
+/// `rearrange` (a pass of `Session`'s) makes of the plan, checked: the same each time, never
+/// longer than reassigning alone, valid for the independent validator, as a total order, as a
+/// schedule and in orders its partial order allows, and the schedule kept the plan's own.
+#[allow(clippy::type_complexity)]
+fn rearranged_checked(
+    session: &mut Session,
+    name: &str,
+    rearrange: fn(&mut Session, Plan, Timed) -> (Plan, Timed),
+) -> (Plan, (Plan, Timed), (Plan, Timed)) {
+    let plan = search(session, 0);
+    let searched = timed(session, &plan);
+    let jobs = session.reassign_jobs(plan.clone(), searched);
+    let searched = timed(session, &plan);
+    let (rearranged, kept) = rearrange(session, plan.clone(), searched);
+    let searched = timed(session, &plan);
+    let (again, _) = rearrange(session, plan.clone(), searched);
+    assert_eq!(again, rearranged, "{name}: deterministic");
+    assert!(kept.schedule.makespan <= jobs.1.schedule.makespan, "{name}: longer than reassigning alone");
+    let span = session.kb().problems[0].span;
+    let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &rearranged, span));
+    assert!(!verdict.diagnostics.has_errors(), "{name}: {:?}", common::messages(&verdict.diagnostics));
+    let rescheduled = timed(session, &rearranged);
+    assert_eq!(kept.schedule, rescheduled.schedule, "{name}: the schedule kept is the plan's");
+    assert_schedule_valid(session, &kept, &kept.schedule.earliest);
+    assert_linearisations_valid(session, &rearranged, &kept, 3);
+    (plan, jobs, (rearranged, kept))
+}
+
 #[test]
 fn sending_waiting_starts_aside_keeps_plans_valid_and_shortens_them() {
     // The search takes blocks straight to their goal places and the arms wait there, holding
@@ -503,24 +532,7 @@ fn sending_waiting_starts_aside_keeps_plans_valid_and_shortens_them() {
     for (rung, start, size) in rungs {
         let name = rung.name();
         let mut session = Session::from_text(&name, rung.source());
-        let plan = search(&mut session, 0);
-        let searched = timed(&mut session, &plan);
-        let (jobs_plan, jobs) = session.reassign_jobs(plan.clone(), searched);
-        let searched = timed(&mut session, &plan);
-        let (detoured, kept) = session.reassign(plan.clone(), searched);
-        let searched = timed(&mut session, &plan);
-        let (again, _) = session.reassign(plan.clone(), searched);
-        assert_eq!(again, detoured, "{name}: deterministic");
-        assert!(kept.schedule.makespan <= jobs.schedule.makespan, "{name}: longer than reassigning alone");
-        // Valid for the independent validator, as a total order, as a schedule and in any
-        // order its partial order allows; the schedule kept is the plan's own.
-        let span = session.kb().problems[0].span;
-        let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &detoured, span));
-        assert!(!verdict.diagnostics.has_errors(), "{name}: {:?}", common::messages(&verdict.diagnostics));
-        let rescheduled = timed(&mut session, &detoured);
-        assert_eq!(kept.schedule, rescheduled.schedule, "{name}: the schedule kept is the plan's");
-        assert_schedule_valid(&mut session, &kept, &kept.schedule.earliest);
-        assert_linearisations_valid(&mut session, &detoured, &kept, 3);
+        let (plan, (jobs_plan, jobs), (detoured, kept)) = rearranged_checked(&mut session, &name, Session::reassign);
         // A detour is one more job for each start sent aside, and nothing else changes in
         // number.
         let moves = |p: &Plan| count_steps(&session, p, start);
@@ -574,22 +586,7 @@ fn relocating_starts_keeps_plans_valid_and_moves_shorter() {
             let rung = ladder::Rung { family, blocks, arms, seed: 1 };
             let name = rung.name();
             let mut session = Session::from_text(&name, rung.source());
-            let plan = search(&mut session, 0);
-            let searched = timed(&mut session, &plan);
-            let (_, jobs) = session.reassign_jobs(plan.clone(), searched);
-            let searched = timed(&mut session, &plan);
-            let (relocated, kept) = session.relocate(plan.clone(), searched);
-            let searched = timed(&mut session, &plan);
-            let (again, _) = session.relocate(plan.clone(), searched);
-            assert_eq!(again, relocated, "{name}: deterministic");
-            assert!(kept.schedule.makespan <= jobs.schedule.makespan, "{name}: longer than reassigning alone");
-            let span = session.kb().problems[0].span;
-            let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &relocated, span));
-            assert!(!verdict.diagnostics.has_errors(), "{name}: {:?}", common::messages(&verdict.diagnostics));
-            let rescheduled = timed(&mut session, &relocated);
-            assert_eq!(kept.schedule, rescheduled.schedule, "{name}: the schedule kept is the plan's");
-            assert_schedule_valid(&mut session, &kept, &kept.schedule.earliest);
-            assert_linearisations_valid(&mut session, &relocated, &kept, 3);
+            let (plan, (_, jobs), (relocated, kept)) = rearranged_checked(&mut session, &name, Session::relocate);
             // The same steps in number: only where blocks go (and who moves them) changes.
             assert_eq!(relocated.steps.len(), plan.steps.len(), "{name}");
             if kept.schedule.makespan < jobs.schedule.makespan {

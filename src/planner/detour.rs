@@ -30,9 +30,10 @@
 //! actions come from the KB.
 //!
 //! [`relocate`] remakes a different decision: where a unit is left for a while. The search
-//! puts a block aside on the first free cell it lists (reverse_b100_a8: moves of 5.4 cells on
-//! average where the nearest free cell was one or two away, and 2 of 3 moves are such trips),
-//! and every arm pays for the distance twice, there and back. Replayed with each such start
+//! puts a block aside on the first free cell it lists (reverse_b100_a8, 82 free cells of 102:
+//! its 208 moves took 5.4 time units at least on average, a move to a neighbouring cell 2,
+//! and 108 of them were trips aside), and the arms pay for the distance twice, there and
+//! back. Replayed with each such start
 //! sent to the cheapest free place, measured on the ladder (`kbc bench --search heuristic`,
 //! one run, relocating before and after the detours, against the detours alone):
 //! reverse_b100_a8 240 -> 203, reverse_b75 131 -> 115, reverse_b50 97 -> 88, reverse_b20 57 ->
@@ -212,12 +213,11 @@ impl Rewriter<'_, '_> {
             if task.schemas[action.schema].snap != Snap::Start {
                 continue;
             }
-            let positions = chosen_positions(task, action.schema);
-            if positions.is_empty() {
+            let values = self.chosen_values(task, path, k);
+            if values.is_empty() {
                 continue;
             }
             let name = self.names[k].args();
-            let values: Vec<Term> = positions.iter().map(|&p| name[p].clone()).collect();
             // What the start moves: its arguments neither chosen nor a unit of a resource.
             let moved = unit_free_positions(task, action.schema);
             found[k] = (k + 1..path.len()).find(|&l| {
@@ -256,12 +256,8 @@ impl Rewriter<'_, '_> {
         // The chosen values of the starts taken and not yet ended (relocated: not yet left):
         // the index in `path` of the step that frees them, their family, the values.
         let mut reserved: Vec<(usize, usize, Vec<Term>)> = Vec::new();
-        let blame = |active: &[Moved], failed: &Term| -> Option<(usize, Vec<Term>)> {
-            let args = failed.args();
-            let holds = |values: &[Term]| args.windows(values.len()).any(|w| w == values);
-            let named = active.iter().rev().find(|m| holds(&m.new));
-            named.or(active.last()).map(|m| (m.start, m.new.clone()))
-        };
+        let blame =
+            |active: &[Moved], failed: &Term| to_blame(active, |m| &m.new, failed).map(|m| (m.start, m.new.clone()));
         for (k, action) in path.iter().enumerate() {
             reserved.retain(|(end, _, _)| *end != k);
             if let Some(leaves) = leaving[k] {
@@ -292,30 +288,7 @@ impl Rewriter<'_, '_> {
             let step = if self.applicable(task, &state, action) {
                 Some(action.clone())
             } else {
-                // The same step with other values outside its name (the grip of a block that
-                // stands elsewhere), or named with the old values of a relocation: the same
-                // step from the new ones.
-                let name = self.names[k].clone();
-                let mut found = self.same(task, path, k, &state);
-                for moved in active.iter().rev() {
-                    if found.is_some() {
-                        break;
-                    }
-                    let Some((functor, _)) = name.callable() else { break };
-                    for args in substituted(name.args(), &moved.old, &moved.new) {
-                        let wanted = Term::Compound(functor, args.into());
-                        if let Some(step) =
-                            self.family(task, action.schema, &state, |n| *n == wanted).into_iter().next()
-                        {
-                            found = Some(step);
-                            break;
-                        }
-                    }
-                    if found.is_some() {
-                        break;
-                    }
-                }
-                found
+                self.renamed(task, path, k, &state, &active)
             };
             let Some(step) = step else { return Err(blame(&active, &self.names[k])) };
             let positions = chosen_positions(task, action.schema);
@@ -337,11 +310,38 @@ impl Rewriter<'_, '_> {
         Ok((out, taken))
     }
 
+    /// Step `k` where it no longer applies as it is, after the relocations `active`: the
+    /// applicable instance named as it is (other values outside its name: the grip of a block
+    /// that stands elsewhere), else one named with a relocation's new values for its old ones
+    /// (the end of the move, the move off the new place), the latest relocation first.
+    fn renamed(
+        &mut self,
+        task: &mut Task,
+        path: &[Applicable],
+        k: usize,
+        state: &State,
+        active: &[Moved],
+    ) -> Option<Applicable> {
+        if let Some(step) = self.same(task, path, k, state) {
+            return Some(step);
+        }
+        let name = self.names[k].clone();
+        let (functor, _) = name.callable()?;
+        for moved in active.iter().rev() {
+            for args in substituted(name.args(), &moved.old, &moved.new) {
+                let wanted = Term::Compound(functor, args.into());
+                if let Some(step) = self.family(task, path[k].schema, state, |n| *n == wanted).into_iter().next() {
+                    return Some(step);
+                }
+            }
+        }
+        None
+    }
+
     /// The least costly way to take relocatable start `k` in `state`: the instance of its
     /// action with the same other arguments and any chosen values `free` accepts (the plan's
     /// own among them, first among equals) whose end could apply at once (the plan's own
-    /// values need not); with the plan's
-    /// chosen values and the ones taken.
+    /// values need not); with the plan's chosen values and the ones taken.
     fn cheapest(
         &mut self,
         task: &mut Task,
@@ -351,28 +351,11 @@ impl Rewriter<'_, '_> {
         free: impl Fn(usize, &[Term]) -> bool,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
-        let start = &path[k];
-        let positions = chosen_positions(task, start.schema);
-        let wanted = self.names[k].args().to_vec();
-        let old: Vec<Term> = positions.iter().map(|&p| wanted[p].clone()).collect();
-        let alternatives = self.family(task, start.schema, state, |name| {
-            let a = name.args();
-            a.len() == wanted.len() && (0..a.len()).all(|p| positions.contains(&p) || a[p] == wanted[p])
-        });
-        let family = self.families[start.schema][0];
-        let mut ranked: Vec<(i64, bool, usize, Applicable, Vec<Term>)> = alternatives
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, a)| {
-                let name = successors::action_name(task, &a);
-                let values: Vec<Term> = positions.iter().map(|&p| name.args()[p].clone()).collect();
-                let c = cost(task.schemas[a.schema].action, &name);
-                free(family, &values).then(|| (c, values != old, i, a, values))
-            })
-            .collect();
-        ranked.sort_by_key(|(c, other, i, _, _)| (*c, *other, *i));
+        let old = self.chosen_values(task, path, k);
+        let family = self.families[path[k].schema][0];
+        let ranked = self.alternatives(task, path, k, state, |values| free(family, values), cost);
         let end = self.end_index[k].map(|e| path[e].clone())?;
-        for (_, _, _, alternative, values) in ranked.into_iter().take(ALTERNATIVES) {
+        for (alternative, values) in ranked {
             // (The plan's own values may wait for their end, as they did in the plan.)
             let next = successors::apply(task, state, &alternative);
             if values == old || self.end_of(task, &alternative, &end, &next).is_some() {
@@ -387,10 +370,15 @@ impl Rewriter<'_, '_> {
 /// aside whose values the step's name holds, in a row (it goes where the detour left
 /// something), or else the latest aside.
 fn blame(aside: &[(usize, Vec<Term>)], failed: &Term) -> Failure {
+    to_blame(aside, |(_, values)| values, failed).map_or(Failure::Plan, |(d, _)| Failure::Detour(*d))
+}
+
+/// Of `changes` (detours or relocations, in the order made), the one to blame for the step
+/// named `failed` failing: the latest whose `values` the name holds in a row, else the latest.
+fn to_blame<'a, T>(changes: &'a [T], values: impl Fn(&T) -> &[Term], failed: &Term) -> Option<&'a T> {
     let args = failed.args();
     let holds = |values: &[Term]| !values.is_empty() && args.windows(values.len()).any(|w| w == values);
-    let named = aside.iter().rev().find(|(_, values)| holds(values));
-    named.or(aside.last()).map_or(Failure::Plan, |(d, _)| Failure::Detour(*d))
+    changes.iter().rev().find(|c| holds(values(c))).or(changes.last())
 }
 
 /// For each start of `path`, the index of the end that ends it (the first after it that ends
@@ -524,13 +512,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
         if positions.is_empty() {
             return None;
         }
-        let wanted = self.names[h.start].args().to_vec();
-        let alternatives = self.family(task, start.schema, state, |name| {
-            let a = name.args();
-            a.len() == wanted.len()
-                && (0..a.len()).all(|p| positions.contains(&p) || a[p] == wanted[p])
-                && positions.iter().any(|&p| a[p] != wanted[p])
-        });
+        let old = self.chosen_values(task, path, h.start);
         // The chosen values other steps of this family take while this one would be aside
         // (starts between the held start and its end, and starts running across the start).
         let taken: Vec<Vec<Term>> = (0..self.names.len())
@@ -538,29 +520,59 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             .filter(|&k| k < h.end && (k > h.start || self.end_index[k].is_some_and(|e| e > h.start)))
             .map(|k| positions.iter().map(|&p| self.names[k].args()[p].clone()).collect())
             .collect();
-        let mut ranked: Vec<(i64, usize, Applicable)> = alternatives
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, a)| {
-                let name = successors::action_name(task, &a);
-                let values: Vec<Term> = positions.iter().map(|&p| name.args()[p].clone()).collect();
-                (!taken.contains(&values)).then(|| (cost(task.schemas[a.schema].action, &name), i, a))
-            })
-            .collect();
-        ranked.sort_by_key(|(cost, i, _)| (*cost, *i));
+        let ranked =
+            self.alternatives(task, path, h.start, state, |v| *v != old[..] && !taken.iter().any(|t| t == v), cost);
         let end = &path[h.end];
-        for (_, _, alternative) in ranked.into_iter().take(ALTERNATIVES) {
+        for (alternative, values) in ranked {
             let mut next = successors::apply(task, state, &alternative);
             let Some(finish) = self.end_of(task, &alternative, end, &next) else { continue };
             next = successors::apply(task, &next, &finish);
             let mut steps = vec![alternative, finish];
             if self.again(task, path, &h.tail, &mut next, &mut steps) {
-                let name = successors::action_name(task, &steps[0]);
-                let values = positions.iter().map(|&p| name.args()[p].clone()).collect();
                 return Some((steps, next, values));
             }
         }
         None
+    }
+
+    /// The chosen values of step `k` (at [`chosen_positions`]).
+    fn chosen_values(&self, task: &Task, path: &[Applicable], k: usize) -> Vec<Term> {
+        let name = self.names[k].args();
+        chosen_positions(task, path[k].schema).iter().map(|&p| name[p].clone()).collect()
+    }
+
+    /// The applicable instances of start `k`'s action in `state` named as it is but at its
+    /// chosen positions, whose chosen values `keep` accepts, with those values: at most
+    /// [`ALTERNATIVES`], cheapest first by `cost` (the plan's own values first among equals,
+    /// then in the order found).
+    fn alternatives(
+        &mut self,
+        task: &mut Task,
+        path: &[Applicable],
+        k: usize,
+        state: &State,
+        keep: impl Fn(&[Term]) -> bool,
+        cost: &mut dyn FnMut(usize, &Term) -> i64,
+    ) -> Vec<(Applicable, Vec<Term>)> {
+        let schema = path[k].schema;
+        let positions = chosen_positions(task, schema);
+        let wanted = self.names[k].args().to_vec();
+        let old: Vec<Term> = positions.iter().map(|&p| wanted[p].clone()).collect();
+        let instances = self.family(task, schema, state, |name| {
+            let a = name.args();
+            a.len() == wanted.len() && (0..a.len()).all(|p| positions.contains(&p) || a[p] == wanted[p])
+        });
+        let mut ranked: Vec<(i64, bool, usize, Applicable, Vec<Term>)> = instances
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, a)| {
+                let name = successors::action_name(task, &a);
+                let values: Vec<Term> = positions.iter().map(|&p| name.args()[p].clone()).collect();
+                keep(&values).then(|| (cost(task.schemas[a.schema].action, &name), values != old, i, a, values))
+            })
+            .collect();
+        ranked.sort_by_key(|(c, other, i, _, _)| (*c, *other, *i));
+        ranked.into_iter().take(ALTERNATIVES).map(|(_, _, _, a, values)| (a, values)).collect()
     }
 
     /// Takes the plan's steps `ks` again from `state`, each the applicable action named as

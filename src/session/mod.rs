@@ -1082,15 +1082,12 @@ impl Session {
         if timed.schedule.makespan < searched {
             let searched = crate::ir::stn::format_time(searched);
             origin = format!("{origin}, jobs reassigned from a makespan of {searched}");
-            match sent.1 {
-                0 => {}
-                1 => origin.push_str(", 1 start relocated"),
-                n => origin.push_str(&format!(", {n} starts relocated")),
+            let (detours, relocated) = sent;
+            if relocated > 0 {
+                origin = format!("{origin}, {} relocated", crate::diag::plural(relocated, "start"));
             }
-            match sent.0 {
-                0 => {}
-                1 => origin.push_str(", 1 waiting start sent aside"),
-                n => origin.push_str(&format!(", {n} waiting starts sent aside")),
+            if detours > 0 {
+                origin = format!("{origin}, {} sent aside", crate::diag::plural(detours, "waiting start"));
             }
         }
         Ok(Planned { problem, plans, index, timed, origin, stats, refinement: None })

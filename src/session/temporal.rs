@@ -114,8 +114,9 @@ pub(crate) enum Moves {
     All,
 }
 
-/// Runs the `reassign` pass on a scheduled plan and keeps what it gains, then sends held
-/// starts aside ([`crate::planner::detour`]) where that shortens the plan further.
+/// Runs the `reassign` pass on a scheduled plan and keeps what it gains; then, as `moves`
+/// asks, relocates starts and sends held starts aside ([`crate::planner::detour`]) where that
+/// shortens the plan further.
 ///
 /// Reassigning: each candidate, best estimate first, is checked step by step under the
 /// search's semantics ([`crate::planner::is_solution`]) and scheduled by the temporal passes;
@@ -126,8 +127,10 @@ pub(crate) enum Moves {
 /// without the wait (see [`held`]) holds a unit idle; the plan with every such start sent
 /// aside (and those waiting two and four times as long, as two more candidates) is
 /// rewritten, scheduled and reassigned, and the shortest replaces the plan when it is shorter
-/// than the plan, up to [`DETOUR_ROUNDS`] times. Returns the plan and schedule kept (the
-/// given ones when nothing was shorter).
+/// than the plan, up to [`DETOUR_ROUNDS`] times.
+///
+/// Relocations ([`relocations`]) run before the detours and again after them. Returns the
+/// plan and schedule kept (the given ones when nothing was shorter).
 pub(crate) fn reassign(
     kb: &Kb,
     interner: &Interner,
@@ -146,7 +149,7 @@ pub(crate) fn reassign(
         || rearrange(&mut cx, (plan, timed), REASSIGN_ROUNDS),
         |(_, timed)| {
             let (from, to) = (before, timed.schedule.makespan);
-            format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
+            change(from, to)
         },
     );
     if moves == Moves::Jobs {
@@ -164,12 +167,16 @@ pub(crate) fn reassign(
         || detours(&mut cx, (plan, timed)),
         |rearranged| {
             let (from, to) = (before, rearranged.timed.schedule.makespan);
-            let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
-            format!("makespan {from} -> {to}, {} starts sent aside", rearranged.detours)
+            format!("{}, {} starts sent aside", change(from, to), rearranged.detours)
         },
     );
     let (plan, timed, again) = relocate(&mut cx, (plan, timed));
     Rearranged { plan, timed, detours, relocated: relocated + again }
+}
+
+/// A pass's makespan before and after, for `-v`.
+fn change(from: i64, to: i64) -> String {
+    format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
 }
 
 /// [`relocations`] as a pass of its own in `-v`'s list.
@@ -183,8 +190,7 @@ fn relocate(
         || relocations(cx, (plan, timed)),
         |(_, timed, relocated)| {
             let (from, to) = (before, timed.schedule.makespan);
-            let (from, to) = (crate::ir::stn::format_time(from), crate::ir::stn::format_time(to));
-            format!("makespan {from} -> {to}, {relocated} starts relocated")
+            format!("{}, {relocated} starts relocated", change(from, to))
         },
     )
 }
@@ -201,10 +207,9 @@ pub(crate) struct Rearranged {
     pub relocated: usize,
 }
 
-/// The reassigning rounds of [`reassign`], at most `rounds`.
-/// What [`rearrange`] and [`detours`] work with: the KB, its names, the problem's program,
-/// one generator of applicable actions for every plan checked (OnKB goals proven once) and
-/// the task.
+/// What [`rearrange`], [`relocations`] and [`detours`] work with: the KB, its names, the
+/// problem's program, one generator of applicable actions for every plan checked (OnKB goals
+/// proven once) and the task.
 struct Rearranging<'a, 'p> {
     kb: &'a Kb,
     interner: &'a Interner,
@@ -213,6 +218,7 @@ struct Rearranging<'a, 'p> {
     task: &'a mut crate::ir::task::Task,
 }
 
+/// The reassigning rounds of [`reassign`], at most `rounds`.
 fn rearrange(
     cx: &mut Rearranging<'_, '_>,
     (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
@@ -335,12 +341,9 @@ fn relocations(
     let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
     let mut cost = least_duration(kb, program);
     let found = crate::planner::detour::relocate(&mut cx.successors, cx.task, &plan, &mut cost);
-    let Ok(found) = found else {
+    let Some(found) = found.ok().filter(|found| !found.taken.is_empty()) else {
         return (plan, timed, 0);
     };
-    if found.taken.is_empty() {
-        return (plan, timed, 0);
-    }
     let mut diags = Diagnostics::new();
     let Some(scheduled) = schedule(kb, interner, program, &found.plan, None, timed.stn.epsilon, &mut diags) else {
         return (plan, timed, 0);
