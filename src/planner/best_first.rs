@@ -99,6 +99,10 @@
 //! doubled the reverse rungs' makespans (reverse_b100_a10 350 -> 723), and loosening
 //! without the limit cost build_b50_a8 3.6 -> 5.7 s.
 //!
+//! A plain chain that dies because of an end it took (a block put on the block the goal
+//! wants it on while that one must still move) is followed again without that end, up to
+//! [`AVOIDED_ENDS`] times; see there for what it measured.
+//!
 //! Among the applicable instances of a plan step the lookahead ranks, those that start at the
 //! same time are told apart by their earliest end ([`StepRank`]): a block moved aside goes to
 //! the nearest free cell rather than the first one listed, which on the reverse rungs was
@@ -316,6 +320,25 @@ fn loose_values(task: &Task, loose: &[u32], action: &Applicable) -> Vec<(usize, 
 /// first ones are.
 const LOOSENED_MISSES: u32 = 8;
 
+/// How many times a plain lookahead chain that ends in a dead end is followed again without
+/// the end that made it one (found by bisection over its prefixes, [`first_dead_step`]).
+///
+/// In std/blocks.pl a block put on the block the goal wants it on can never be picked up
+/// again (the paper's KB forbids it), so where the block below must still move (b64 put on
+/// b29, which stands on the table and belongs on b52), that move's end is a dead end; the
+/// relaxed plan, which ignores deletions, has such ends early on the build rungs, and every
+/// plain chain died there (build_b100_a8 seed 2: 4551 expansions). Without the end, the
+/// block waits in the air until its place is ready. Nothing here is specific to blocks: the
+/// dead end is the relaxation's verdict on the chain's states.
+/// Only ends: avoiding starts as well lengthened the swap rungs' makespans up to three times
+/// (swap_b75_a10 113 -> 362). Measured (`kbc bench --search heuristic --timeout 30`, seeds
+/// 1-3, one run each, against no retries): the slowest rung 4.3 s -> 3.5 s (seed 1), 23.6 s
+/// -> 2.2 s (seed 2), 21.6 s -> 4.2 s (seed 3); build_b75_a10 seed 2 21.1 s -> 0.6 s and
+/// makespan 107 -> 86, build_b50_a8 seed 1 4.3 s -> 0.27 s and 78 -> 72; longer:
+/// build_b100_a8 seed 1 167 -> 180, build_b100_a10 seed 3 140 -> 149; the sums of makespans
+/// over the 52 rungs 2694 -> 2688, 2646 -> 2619, 2711 -> 2716.
+const AVOIDED_ENDS: usize = 3;
+
 /// Of the `applicable` actions `accept` takes, the one `timeline` places earliest (the first
 /// of equals), with its placement.
 fn earliest(
@@ -365,6 +388,7 @@ fn look_ahead(
     plan: &[PlanAction],
     careful: bool,
     loosen: bool,
+    avoid: &[Applicable],
     deadline: Option<Instant>,
 ) -> Result<Chain, ConditionError> {
     let mut taken = vec![false; plan.len()];
@@ -385,6 +409,9 @@ fn look_ahead(
         }
         let current = states.last().unwrap_or(state);
         successors.applicable(task, current, &mut applicable)?;
+        if !avoid.is_empty() {
+            applicable.retain(|action| !avoid.contains(action));
+        }
         // Per applicable action: for the end of a start taken with other values than the
         // plan's, the variables that hold them, which the plan's end step names as it
         // planned them (the cell a block moved aside was to land on).
@@ -541,6 +568,25 @@ fn longest_live_prefix<E>(
         }
     }
     Ok(live.filter(|&(at, _)| at >= 2))
+}
+
+/// The index of the step that makes a chain of `length` steps, which ends in a dead end
+/// (`evaluate` answers `None` for the whole chain), end in one: by bisection over its
+/// prefixes, the start taken as live.
+fn first_dead_step<E>(
+    length: usize,
+    evaluate: &mut impl FnMut(usize) -> Result<Option<ChainEstimate>, E>,
+) -> Result<usize, E> {
+    // Invariant: the prefix of `low` steps is live, that of `dead` steps a dead end.
+    let (mut low, mut dead) = (0, length);
+    while dead - low > 1 {
+        let at = (low + dead) / 2;
+        match evaluate(at)? {
+            Some(_) => low = at,
+            None => dead = at,
+        }
+    }
+    Ok(dead - 1)
 }
 
 /// The path from the root to node `id`, as node indices, root excluded.
@@ -867,21 +913,25 @@ pub fn search(
                 if loosen && loosened_misses >= LOOSENED_MISSES {
                     break;
                 }
-                let chain = match look_ahead(
-                    task,
-                    &mut successors,
-                    &timeline,
-                    &mut durations,
-                    &state,
-                    &estimate.plan,
-                    careful,
-                    loosen,
-                    budget.deadline,
-                ) {
-                    Ok(chain) => chain,
-                    Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
-                };
-                let kept = {
+                // A plain chain that ends in a dead end because of an end it took is
+                // followed again without that end (see [`AVOIDED_ENDS`]).
+                let mut avoid: Vec<Applicable> = Vec::new();
+                let (chain, kept) = loop {
+                    let chain = match look_ahead(
+                        task,
+                        &mut successors,
+                        &timeline,
+                        &mut durations,
+                        &state,
+                        &estimate.plan,
+                        careful,
+                        loosen,
+                        &avoid,
+                        budget.deadline,
+                    ) {
+                        Ok(chain) => chain,
+                        Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
+                    };
                     let (machine, cache) = successors.parts();
                     let mut evaluate = |steps: usize| {
                         stats.evaluated += 1;
@@ -891,8 +941,21 @@ pub fn search(
                     };
                     // (A loosened chain is taken whole or not at all: its prefixes went where
                     // the search's own states then could not get on, on build_b100_a8.)
-                    match longest_live_prefix(chain.steps.len(), careful && !loosen, &mut evaluate) {
+                    let kept = match longest_live_prefix(chain.steps.len(), careful && !loosen, &mut evaluate) {
                         Ok(kept) => kept,
+                        Err(stop) => return Outcome::ended(found, stop.into(), stats),
+                    };
+                    if kept.is_some() || careful || avoid.len() >= AVOIDED_ENDS || chain.steps.len() < 2 {
+                        break (chain, kept);
+                    }
+                    match first_dead_step(chain.steps.len(), &mut evaluate) {
+                        Ok(step) => {
+                            let killer = &chain.steps[step].0;
+                            if task.schemas[killer.schema].snap != Snap::End {
+                                break (chain, kept);
+                            }
+                            avoid.push(killer.clone());
+                        }
                         Err(stop) => return Outcome::ended(found, stop.into(), stats),
                     }
                 };
@@ -1015,7 +1078,17 @@ mod tests {
 
     /// Runs the lookahead (`careful` or not, `loosen` or not) from the initial state of
     /// `rung` (the standard blocks world) and hands it to `check`.
-    fn chain_from_start(rung: Rung, (careful, loosen): (bool, bool), check: impl FnOnce(Probe<'_, '_>)) {
+    fn chain_from_start(rung: Rung, modes: (bool, bool), check: impl FnOnce(Probe<'_, '_>)) {
+        chain_avoiding(rung, modes, &[], check);
+    }
+
+    /// [`chain_from_start`], the lookahead taking none of the actions `avoid`.
+    fn chain_avoiding(
+        rung: Rung,
+        (careful, loosen): (bool, bool),
+        avoid: &[Applicable],
+        check: impl FnOnce(Probe<'_, '_>),
+    ) {
         let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
         let problem = frontend.kb.problems.len() - 1;
         let mut task = crate::passes::task::build(&frontend.kb, problem);
@@ -1040,6 +1113,7 @@ mod tests {
             &estimate.plan,
             careful,
             loosen,
+            avoid,
             None,
         )
         .expect("no engine error");
@@ -1125,6 +1199,64 @@ mod tests {
             let (length, (h, _)) = kept.expect("a live prefix");
             assert!(length >= 2 && h < start_h, "{}: {length} steps kept, ending at {h} from {start_h}", rung.name());
         });
+    }
+
+    #[test]
+    fn a_plain_chain_killed_by_an_end_goes_further_without_it() {
+        // On the build rungs the relaxed plan puts blocks early on the blocks the goal wants
+        // them on, where those must still move; the KB forbids picking such a block up
+        // again, so the move's end is a dead end. Without that end the chain goes on.
+        let mut killed_by_ends = 0;
+        for seed in 1..=3 {
+            let rung = Rung { family: Family::Build, blocks: 20, arms: 4, seed };
+            let mut killer = None;
+            chain_from_start(rung, (false, false), |mut probe| {
+                let steps = probe.chain.steps.len();
+                if steps >= 2 && probe.estimate_after(steps).is_none() {
+                    let dead = first_dead_step(steps, &mut |at| Ok::<_, ()>(probe.estimate_after(at).map(|h| (h, h))))
+                        .expect("no error");
+                    assert!(
+                        dead == 0 || probe.estimate_after(dead).is_some(),
+                        "{}: {dead} steps are dead",
+                        rung.name()
+                    );
+                    assert!(probe.estimate_after(dead + 1).is_none(), "{}: step {dead} is not the one", rung.name());
+                    let action = probe.chain.steps[dead].0.clone();
+                    if probe.task.schemas[action.schema].snap == Snap::End {
+                        killer = Some((dead, action));
+                    }
+                }
+            });
+            let Some((dead, action)) = killer else { continue };
+            killed_by_ends += 1;
+            chain_avoiding(rung, (false, false), std::slice::from_ref(&action), |mut probe| {
+                assert!(!probe.chain.steps.iter().any(|(a, _, _)| *a == action), "{}: the end was taken", rung.name());
+                let steps = probe.chain.steps.len();
+                let live = probe.estimate_after(steps).is_some()
+                    || first_dead_step(steps, &mut |at| Ok::<_, ()>(probe.estimate_after(at).map(|h| (h, h))))
+                        .expect("no error")
+                        > dead;
+                assert!(live, "{}: the chain without the end dies as early", rung.name());
+            });
+        }
+        assert!(killed_by_ends > 0, "no build rung's plain chain was killed by an end");
+    }
+
+    #[test]
+    fn the_step_that_kills_a_chain_is_found_by_bisection() {
+        for length in 1..40usize {
+            for first_dead in 1..=length {
+                let mut calls = 0;
+                let mut evaluate = |at: usize| {
+                    calls += 1;
+                    assert!((1..length).contains(&at), "asked for {at} of {length} steps");
+                    Ok::<_, ()>((at < first_dead).then_some((at as u32, 0)))
+                };
+                let step = first_dead_step(length, &mut evaluate).expect("no error");
+                assert_eq!(step, first_dead - 1, "{length} steps, dead from {first_dead}");
+                assert!(calls <= length.ilog2() as usize + 1, "{calls} evaluations for {length} steps");
+            }
+        }
     }
 
     #[test]
