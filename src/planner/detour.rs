@@ -163,12 +163,12 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// with no instance left, blames the relocation whose new values it names (else the latest),
 /// whose choice is banned before the plan is replayed again, up to [`RELOCATION_RETRIES`]
 /// times. Where the plan needs most of its places, banning one choice at a time only moves
-/// the conflict to the next relocation onto the same place; after
-/// [`BANS_BEFORE_PROTECTING`] replays, no unit is relocated onto a place one of the plan's
-/// starts takes while that unit would be there (reverse_b100_a10: every replay failed, 239 ->
-/// 151 with the places protected). `Rewritten::taken` lists the plan indices of the starts relocated. Every step comes
-/// from the applicable actions of the state reached, so the result is a valid plan; nothing
-/// in it is specific to a domain.
+/// the conflict to the next relocation onto the same place; after [`BANS_BEFORE_PROTECTING`]
+/// replays, no unit is relocated onto a place one of the plan's starts takes while that unit
+/// would be there (reverse_b100_a10: every replay failed; 239 -> 151 with the places
+/// protected). `Rewritten::taken` lists the plan indices of the starts relocated. Every step
+/// comes from the applicable actions of the state reached, so the result is a valid plan;
+/// nothing in it is specific to a domain.
 pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
@@ -265,8 +265,8 @@ impl Rewriter<'_, '_> {
     }
 
     /// One replay of [`relocate`] with the choices `banned`, relocating no unit onto a place
-    /// `protected` while it is the plan's: the steps and the relocated starts, or the relocation to blame and
-    /// the values to ban it (`None`: the plan itself fails).
+    /// `protected` while it is the plan's: the steps and the relocated starts, or the
+    /// relocation to blame and the values to ban it (`None`: the plan itself fails).
     #[allow(clippy::type_complexity)]
     fn replay(
         &mut self,
