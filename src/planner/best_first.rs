@@ -330,6 +330,7 @@ const LOOSENED_MISSES: u32 = 8;
 /// plain chain died there (build_b100_a8 seed 2: 4551 expansions). Without the end, the
 /// block waits in the air until its place is ready. Nothing here is specific to blocks: the
 /// dead end is the relaxation's verdict on the chain's states.
+///
 /// Only ends: avoiding starts as well lengthened the swap rungs' makespans up to three times
 /// (swap_b75_a10 113 -> 362). Measured (`kbc bench --search heuristic --timeout 30`, seeds
 /// 1-3, one run each, against no retries): the slowest rung 4.3 s -> 3.5 s (seed 1), 23.6 s
@@ -554,9 +555,19 @@ fn longest_live_prefix<E>(
     if !bisect {
         return Ok(None);
     }
-    // Invariant: the prefix of `dead` steps ends in a dead end; `live`, if any, does not.
-    let (mut live, mut dead) = (None, length);
-    let mut low = 1;
+    let (live, _) = bisect_prefixes(1, length, evaluate)?;
+    Ok(live.filter(|&(at, _)| at >= 2))
+}
+
+/// Bisection over a chain's prefixes, from `low` steps (live, or not worth asking) to `dead`
+/// steps (a dead end): the longest prefix `evaluate` found live, with its estimate, and the
+/// shortest it found dead.
+fn bisect_prefixes<E>(
+    mut low: usize,
+    mut dead: usize,
+    evaluate: &mut impl FnMut(usize) -> Result<Option<ChainEstimate>, E>,
+) -> Result<(Option<(usize, ChainEstimate)>, usize), E> {
+    let mut live = None;
     while dead - low > 1 {
         let at = (low + dead) / 2;
         match evaluate(at)? {
@@ -567,7 +578,7 @@ fn longest_live_prefix<E>(
             None => dead = at,
         }
     }
-    Ok(live.filter(|&(at, _)| at >= 2))
+    Ok((live, dead))
 }
 
 /// The index of the step that makes a chain of `length` steps, which ends in a dead end
@@ -577,15 +588,7 @@ fn first_dead_step<E>(
     length: usize,
     evaluate: &mut impl FnMut(usize) -> Result<Option<ChainEstimate>, E>,
 ) -> Result<usize, E> {
-    // Invariant: the prefix of `low` steps is live, that of `dead` steps a dead end.
-    let (mut low, mut dead) = (0, length);
-    while dead - low > 1 {
-        let at = (low + dead) / 2;
-        match evaluate(at)? {
-            Some(_) => low = at,
-            None => dead = at,
-        }
-    }
+    let (_, dead) = bisect_prefixes(0, length, evaluate)?;
     Ok(dead - 1)
 }
 

@@ -178,15 +178,15 @@ pub fn relocate(
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
     let mut banned: FxHashMap<usize, Vec<Vec<Term>>> = FxHashMap::default();
-    // Where the plan's starts leave their units, and over which span of the plan (to the
-    // start that leaves again, else to the end): family, chosen values, from, until.
     let places: Vec<Place> = (0..path.len())
         .filter(|&k| task.schemas[path[k].schema].snap == Snap::Start)
-        .map(|k| {
-            let family = rewriter.families[path[k].schema][0];
-            (family, rewriter.chosen_values(task, &path, k), k, leaving[k].unwrap_or(path.len()))
+        .map(|k| Place {
+            family: rewriter.families[path[k].schema][0],
+            values: rewriter.chosen_values(task, &path, k),
+            from: k,
+            until: leaving[k].unwrap_or(path.len()),
         })
-        .filter(|(_, values, _, _)| !values.is_empty())
+        .filter(|place| !place.values.is_empty())
         .collect();
     for attempt in 0..RELOCATION_RETRIES {
         // After a few conflicts over places (the plan needs most of its places), every
@@ -201,9 +201,17 @@ pub fn relocate(
     Err(Failure::Plan)
 }
 
-/// A place a plan's start leaves its unit on: the start's family, its chosen values, and the
-/// span of plan indices over which the unit is there.
-type Place = (usize, Vec<Term>, usize, usize);
+/// A place a plan's start leaves its unit on, and while.
+struct Place {
+    /// The start's family (its first member).
+    family: usize,
+    /// The start's chosen values.
+    values: Vec<Term>,
+    /// The plan indices over which the unit is there: from the start to the start that
+    /// leaves again (else the plan's end).
+    from: usize,
+    until: usize,
+}
 
 /// A relocation in a replay: the start's plan index, its chosen values in the plan and the
 /// ones taken instead, and the index of the last step that names it (the end of the move
@@ -292,9 +300,12 @@ impl Rewriter<'_, '_> {
                 let free = |family: usize, values: &[Term]| {
                     !reserved.iter().any(|(_, f, v)| *f == family && v == values)
                         && (values == own
-                            || !protected
-                                .iter()
-                                .any(|(f, v, from, until)| *f == family && v == values && *from < leaves && *until > k))
+                            || !protected.iter().any(|place| {
+                                place.family == family
+                                    && place.values == values
+                                    && place.from < leaves
+                                    && place.until > k
+                            }))
                         && banned.get(&k).is_none_or(|b| !b.iter().any(|v| v == values))
                 };
                 let Some((step, old, new)) = self.cheapest(task, path, k, &state, free, cost) else {
