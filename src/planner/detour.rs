@@ -153,9 +153,12 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// other positions, by a later start of the same action that also names what it moves (the
 /// move that takes the same block off that cell again). Replaying the plan in order, each
 /// such start is taken as the instance with the same other arguments whose least duration
-/// (`cost`) is least (its own values first among equals) among those whose chosen values no
-/// start running then has taken and whose end could apply at once (its own values need not:
-/// they may wait, as in the plan). A place given to a relocated unit stays its own until the
+/// (`cost`) is least (its own values first among equals, but costing also the wait `waits`
+/// gives the start in the plan's schedule) among those whose chosen values no start running
+/// then has taken and whose end could apply at once (its own values need not: they may
+/// wait, as in the plan). (Without the wait, a block that the search sent onto a
+/// neighbouring cell before the block there had left stayed there, its arm held for the
+/// whole wait, whatever cell was free.) A place given to a relocated unit stays its own until the
 /// unit leaves, since the plan's other starts may count on it. A later step that no longer
 /// applies is taken as the applicable instance named as it is (a grip where the block now
 /// stands), or named with a relocation's new values instead of its old ones (the end of the
@@ -173,6 +176,7 @@ pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
+    waits: &[i64],
     cost: &mut dyn FnMut(usize, &Term) -> i64,
 ) -> Result<Rewritten, Failure> {
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
@@ -192,7 +196,7 @@ pub fn relocate(
         // After a few conflicts over places (the plan needs most of its places), every
         // start's place is its own while its unit is there.
         let protected = if attempt < BANS_BEFORE_PROTECTING { &[][..] } else { &places[..] };
-        match rewriter.replay(task, &path, &leaving, (&banned, protected), cost) {
+        match rewriter.replay(task, &path, &leaving, (&banned, protected), waits, cost) {
             Ok((steps, taken)) => return Ok(Rewritten { plan: plan_from(task, &steps), taken }),
             Err(Some((k, values))) => banned.entry(k).or_default().push(values),
             Err(None) => return Err(Failure::Plan),
@@ -282,6 +286,7 @@ impl Rewriter<'_, '_> {
         path: &[Applicable],
         leaving: &[Option<usize>],
         (banned, protected): (&FxHashMap<usize, Vec<Vec<Term>>>, &[Place]),
+        waits: &[i64],
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Result<(Vec<Applicable>, Vec<usize>), Option<(usize, Vec<Term>)>> {
         let mut state = task.init.clone();
@@ -297,8 +302,10 @@ impl Rewriter<'_, '_> {
             reserved.retain(|(end, _, _)| *end != k);
             if let Some(leaves) = leaving[k] {
                 let own = self.chosen_values(task, path, k);
+                // The plan's own values also cost the wait their end had in its schedule.
+                let wait = waits.get(k).copied().unwrap_or(0).max(0);
                 let free = |family: usize, values: &[Term]| {
-                    !reserved.iter().any(|(_, f, v)| *f == family && v == values)
+                    let free = !reserved.iter().any(|(_, f, v)| *f == family && v == values)
                         && (values == own
                             || !protected.iter().any(|place| {
                                 place.family == family
@@ -306,7 +313,8 @@ impl Rewriter<'_, '_> {
                                     && place.from < leaves
                                     && place.until > k
                             }))
-                        && banned.get(&k).is_none_or(|b| !b.iter().any(|v| v == values))
+                        && banned.get(&k).is_none_or(|b| !b.iter().any(|v| v == values));
+                    free.then_some(if values == own { wait } else { 0 })
                 };
                 let Some((step, old, new)) = self.cheapest(task, path, k, &state, free, cost) else {
                     return Err(blame(&active, &self.names[k]));
@@ -382,16 +390,17 @@ impl Rewriter<'_, '_> {
     }
 
     /// The least costly way to take relocatable start `k` in `state`: the instance of its
-    /// action with the same other arguments and any chosen values `free` accepts (the plan's
-    /// own among them, first among equals) whose end could apply at once (the plan's own
-    /// values need not); with the plan's chosen values and the ones taken.
+    /// action with the same other arguments and any chosen values `free` accepts (given the
+    /// family, it answers what they cost beyond the least duration; the plan's own among
+    /// them, first among equals) whose end could apply at once (the plan's own values need
+    /// not); with the plan's chosen values and the ones taken.
     fn cheapest(
         &mut self,
         task: &mut Task,
         path: &[Applicable],
         k: usize,
         state: &State,
-        free: impl Fn(usize, &[Term]) -> bool,
+        free: impl Fn(usize, &[Term]) -> Option<i64>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
         let old = self.chosen_values(task, path, k);
@@ -563,8 +572,14 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             .filter(|&k| k < h.end && (k > h.start || self.end_index[k].is_some_and(|e| e > h.start)))
             .map(|k| positions.iter().map(|&p| self.names[k].args()[p].clone()).collect())
             .collect();
-        let ranked =
-            self.alternatives(task, path, h.start, state, |v| *v != old[..] && !taken.iter().any(|t| t == v), cost);
+        let ranked = self.alternatives(
+            task,
+            path,
+            h.start,
+            state,
+            |v| (*v != old[..] && !taken.iter().any(|t| t == v)).then_some(0),
+            cost,
+        );
         let end = &path[h.end];
         for (alternative, values) in ranked {
             let mut next = successors::apply(task, state, &alternative);
@@ -585,16 +600,17 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     }
 
     /// The applicable instances of start `k`'s action in `state` named as it is but at its
-    /// chosen positions, whose chosen values `keep` accepts, with those values: at most
-    /// [`ALTERNATIVES`], cheapest first by `cost` (the plan's own values first among equals,
-    /// then in the order found).
+    /// chosen positions, whose chosen values `keep` accepts (it answers what they cost
+    /// beyond the least duration), with those values: at most [`ALTERNATIVES`], cheapest
+    /// first by `cost` plus that (the plan's own values first among equals, then in the
+    /// order found).
     fn alternatives(
         &mut self,
         task: &mut Task,
         path: &[Applicable],
         k: usize,
         state: &State,
-        keep: impl Fn(&[Term]) -> bool,
+        keep: impl Fn(&[Term]) -> Option<i64>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Vec<(Applicable, Vec<Term>)> {
         let schema = path[k].schema;
@@ -611,7 +627,9 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             .filter_map(|(i, a)| {
                 let name = successors::action_name(task, &a);
                 let values: Vec<Term> = positions.iter().map(|&p| name.args()[p].clone()).collect();
-                keep(&values).then(|| (cost(task.schemas[a.schema].action, &name), values != old, i, a, values))
+                let extra = keep(&values)?;
+                let cost = cost(task.schemas[a.schema].action, &name).saturating_add(extra);
+                Some((cost, values != old, i, a, values))
             })
             .collect();
         ranked.sort_by_key(|(c, other, i, _, _)| (*c, *other, *i));

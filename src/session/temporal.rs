@@ -340,7 +340,8 @@ fn relocations(
 ) -> (crate::ir::plan::Plan, Timed, usize) {
     let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
     let mut cost = least_duration(kb, program);
-    let found = crate::planner::detour::relocate(&mut cx.successors, cx.task, &plan, &mut cost);
+    let waits = waits(&plan, &timed);
+    let found = crate::planner::detour::relocate(&mut cx.successors, cx.task, &plan, &waits, &mut cost);
     let Some(found) = found.ok().filter(|found| !found.taken.is_empty()) else {
         return (plan, timed, 0);
     };
@@ -354,6 +355,21 @@ fn relocations(
     } else {
         (plan, timed, 0)
     }
+}
+
+/// For each step of `plan`, how long its end waits beyond its minimum duration in the
+/// schedule when it is a start (else 0).
+fn waits(plan: &crate::ir::plan::Plan, timed: &Timed) -> Vec<i64> {
+    let earliest = &timed.schedule.earliest;
+    let mut waits = vec![0; plan.steps.len()];
+    for (end, step) in timed.pop.steps.iter().enumerate() {
+        let Some(start) = step.start else { continue };
+        let min = timed.stn.durations[start].map_or(0, |b| b.min);
+        if let Some(wait) = waits.get_mut(start) {
+            *wait = (earliest[end] - earliest[start] - min).max(0);
+        }
+    }
+    waits
 }
 
 /// The starts of `plan` whose ends wait: for each job (see [`crate::passes::reassign::jobs`])
