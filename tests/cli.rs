@@ -240,6 +240,19 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     };
     assert_ne!(expanded(&[]), expanded(&["--lookahead"]));
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
+    // `--improve` reaches the plan: on this rung a restart finds a shorter makespan.
+    let makespan = |extra: &[&str]| {
+        let mut args = vec!["bench", "--filter", "swap_b05_", "--search", "heuristic", "--format", "json"];
+        args.extend_from_slice(extra);
+        let run = kbc(&args);
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+        let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
+        rows[0]["makespan"].as_f64().expect("a makespan")
+    };
+    assert!(makespan(&["--improve", "1"]) < makespan(&[]));
+    let refused = kbc(&["bench", "--filter", "swap_b05_", "--improve", "0"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(stderr(&refused).contains("--improve"), "{}", stderr(&refused));
 }
 
 #[test]

@@ -41,6 +41,10 @@ pub(super) struct BenchArgs {
     #[arg(long, value_enum, value_name = "WHEN", num_args = 0..=1, require_equals = true, default_value_t = LookaheadArg::Auto,
           default_missing_value = "on")]
     lookahead: LookaheadArg,
+    /// After the first plan, go on searching for shorter makespans for this many seconds
+    /// (as `kbc plan --improve`); the ratio column then shows what the improvement reached.
+    #[arg(long, value_name = "SECONDS")]
+    improve: Option<f64>,
     /// The output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
@@ -77,6 +81,14 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
         eprintln!("error: timeouts must be positive numbers of seconds");
         return ExitCode::from(2);
     }
+    let improve = match args.improve {
+        None => None,
+        Some(seconds) if seconds > 0.0 && seconds.is_finite() => Some(Duration::from_secs_f64(seconds)),
+        Some(_) => {
+            eprintln!("error: `--improve` takes a positive number of seconds");
+            return ExitCode::from(2);
+        }
+    };
     let searches: &[SearchKind] = match args.search {
         Searches::Both => &[SearchKind::Heuristic, SearchKind::Paper],
         Searches::Heuristic => &[SearchKind::Heuristic],
@@ -100,7 +112,9 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                 deadline: Some(Instant::now() + Duration::from_secs_f64(seconds)),
                 ..Budget::default()
             };
-            let settings = PlanSettings { lookahead: args.lookahead.into(), ..PlanSettings::default() };
+            // (The paper's search has no improvement phase.)
+            let improve = if search == SearchKind::Heuristic { improve } else { None };
+            let settings = PlanSettings { lookahead: args.lookahead.into(), improve, ..PlanSettings::default() };
             let row = ladder::run_with(rung, search, budget, args.max_depth, &settings);
             if search == SearchKind::Heuristic && row.result.is_ok() {
                 heuristic_time = Some(row.elapsed);

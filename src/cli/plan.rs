@@ -228,6 +228,7 @@ impl PlanningArgs {
             epsilon: self.epsilon,
             symmetry: !self.no_symmetry,
             lookahead: self.lookahead.into(),
+            tie_seed: None,
         }
     }
 }

@@ -642,6 +642,7 @@ pub fn search(
     improve_until: Option<Instant>,
     temporal: bool,
     epsilon: i64,
+    tie_seed: Option<u64>,
     mut scorer: Option<&mut dyn Score>,
     progress: &mut dyn Progress,
 ) -> Outcome {
@@ -826,6 +827,9 @@ pub fn search(
                 actions.push(action);
                 let plan = plan_from(task, &actions);
                 let first = found.is_empty();
+                if first {
+                    stats.first_expanded = stats.expanded;
+                }
                 match scorer.as_deref_mut() {
                     Some(scorer) => match scorer.score(task, &plan) {
                         Some(score) if best.is_none_or(|best| score < best) => best = Some(score),
@@ -889,10 +893,15 @@ pub fn search(
                 makespan,
             });
             seen.insert_unique(print.0, child_id, |&n| nodes[n as usize].fingerprint.0);
+            // (With a seed, a hash of it and the node in place of the depth.)
+            let depth_key = match tie_seed {
+                Some(seed) => (FxBuildHasher.hash_one((child_id, seed)) >> 32) as u32,
+                None => depth,
+            };
             let entry = if improving {
-                Reverse((h_lm + h_ff + idles as u32, 0, makespan, h_ff, time, depth, child_id))
+                Reverse((h_lm + h_ff + idles as u32, 0, makespan, h_ff, time, depth_key, child_id))
             } else {
-                Reverse((h_lm + h_ff, idles as u32, makespan, h_ff, time, depth, child_id))
+                Reverse((h_lm + h_ff, idles as u32, makespan, h_ff, time, depth_key, child_id))
             };
             if helpful {
                 preferred.push(entry);

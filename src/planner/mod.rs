@@ -125,6 +125,10 @@ pub struct Options {
     /// For the heuristic search: at each state better than any before, follow its relaxed
     /// plan as far as it applies and add the state reached (`best_first`'s lookahead).
     pub lookahead: Lookahead,
+    /// For the heuristic search: break the last ties between states of equal rank by a hash
+    /// of this seed rather than by depth, for a different plan of about the same quality
+    /// (`kbc plan --improve` restarts the search with other seeds).
+    pub tie_seed: Option<u64>,
 }
 
 impl Default for Options {
@@ -138,6 +142,7 @@ impl Default for Options {
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
             lookahead: Lookahead::Auto,
+            tie_seed: None,
         }
     }
 }
@@ -174,6 +179,9 @@ pub struct Stats {
     /// States not evaluated because no action applies in them (every unit of a resource
     /// waits on another).
     pub stuck: u64,
+    /// The states expanded until the first plan was found (all of them when the search
+    /// stopped there; fewer when it went on to improve the plan).
+    pub first_expanded: u64,
 }
 
 /// Which budget ran out.
@@ -387,6 +395,7 @@ pub fn search_scored(
                 until,
                 true,
                 options.epsilon,
+                options.tie_seed,
                 scorer.as_mut().map(|s| &mut **s as &mut dyn Score),
                 progress,
             );
@@ -412,6 +421,7 @@ pub fn search_scored(
                     until,
                     false,
                     options.epsilon,
+                    options.tie_seed,
                     scorer,
                     progress,
                 );
