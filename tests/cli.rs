@@ -915,6 +915,14 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let text = stderr(&ahead);
     let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
     assert!(search.contains(" reached by lookahead)"), "{search}");
+    // `--improve`'s restarts are one line, whatever their number (a states budget ends them).
+    let improving = kbc(&["plan", "-v", "--improve", "60", "--max-states", "300", file]);
+    assert_eq!(improving.status.code(), Some(0), "{}", stderr(&improving));
+    let passes = verbose_passes(&stderr(&improving));
+    assert_eq!(passes.iter().filter(|p| *p == "search").count(), 1, "{passes:?}");
+    let text = stderr(&improving);
+    let restarts = text.lines().find(|l| l.trim_start().starts_with("restarts ")).expect("a restarts line");
+    assert!(restarts.contains(" restarts, makespan "), "{restarts}");
     // Without the flag, no table; with --quiet, a usage error.
     assert!(!stderr(&kbc(&["check", file])).contains("pass        time"));
     assert_eq!(kbc(&["check", "-v", "-q", file]).status.code(), Some(2));

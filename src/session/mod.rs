@@ -778,7 +778,7 @@ impl Session {
         &mut self,
         problem: usize,
         ground: usize,
-        (planned, mut spent): (Planned, u64),
+        (planned, spent): (Planned, u64),
         settings: &PlanSettings,
         progress: &mut dyn Progress,
     ) -> Planned {
@@ -786,10 +786,36 @@ impl Session {
         if !settings.reassigns() || planned.stats.is_none() || settings.tie_seed.is_some() {
             return planned;
         }
+        let before = planned.timed.schedule.makespan;
+        let until = Instant::now() + improve.mul_f64(1.0 - IMPROVING_SEARCH_SHARE);
+        // (One line in `-v` for them all: their own passes run inside it.)
+        timing::time(
+            "restarts",
+            || self.restart_until(problem, ground, (planned, spent), settings, until, progress),
+            |(best, restarted, seed)| {
+                let format = crate::ir::stn::format_time;
+                let (from, to) = (format(before), format(best.timed.schedule.makespan));
+                let kept = seed.map_or("none shorter".to_string(), |seed| format!("seed {seed} kept"));
+                format!("{restarted} restarts, makespan {from} -> {to}, {kept}")
+            },
+        )
+        .0
+    }
+
+    /// The loop of [`Session::restarts`], until `until`: the plan kept, the restarts run and
+    /// the seed of the plan kept if a restart found it.
+    fn restart_until(
+        &mut self,
+        problem: usize,
+        ground: usize,
+        (planned, mut spent): (Planned, u64),
+        settings: &PlanSettings,
+        until: Instant,
+        progress: &mut dyn Progress,
+    ) -> (Planned, usize, Option<u64>) {
         let started = Instant::now();
-        let until = started + improve.mul_f64(1.0 - IMPROVING_SEARCH_SHARE);
         let mut best = planned;
-        let (mut restarted, mut from_restart) = (0, false);
+        let (mut restarted, mut kept) = (0, None);
         // Their warnings are the first search's; their failures do not matter.
         let mut quiet = Diagnostics::new();
         std::mem::swap(&mut quiet, &mut self.diagnostics);
@@ -815,15 +841,15 @@ impl Session {
             let found = self.second_search(problem, ground, found, &again, progress);
             if found.timed.schedule.makespan < best.timed.schedule.makespan {
                 best = found;
-                from_restart = true;
+                kept = Some(seed);
             }
         }
         std::mem::swap(&mut quiet, &mut self.diagnostics);
-        if from_restart {
+        if kept.is_some() {
             let seconds = started.elapsed().as_secs_f64();
             best.origin = format!("{}; the shortest of {restarted} restarts in {seconds:.1} s", best.origin);
         }
-        best
+        (best, restarted, kept)
     }
 
     /// The arm-level problem of high-level problem `problem` ([`Kb::arm_problem`]), added to
