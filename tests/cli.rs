@@ -228,27 +228,22 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
     assert_eq!(rows[0]["problem"], "build_b02_a3_s1");
     assert_eq!(rows[0]["solved"], true);
-    // `--lookahead` reaches the search: the same rung solved, by another way (deterministic).
-    let expanded = |extra: &[&str]| {
-        let mut args = vec!["bench", "--filter", "build_b10_", "--search", "heuristic", "--format", "json"];
+    // The heuristic search's row for the rung `filter` names, with `extra` arguments.
+    let row = |filter: &str, extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["bench", "--filter", filter, "--search", "heuristic", "--format", "json"];
         args.extend_from_slice(extra);
         let run = kbc(&args);
         assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
         let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
         assert_eq!(rows[0]["solved"], true, "{rows}");
-        rows[0]["expanded"].as_u64().expect("a count")
+        rows[0].clone()
     };
+    // `--lookahead` reaches the search: the same rung solved, by another way (deterministic).
+    let expanded = |extra: &[&str]| row("build_b10_", extra)["expanded"].as_u64().expect("a count");
     assert_ne!(expanded(&[]), expanded(&["--lookahead"]));
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
     // `--improve` reaches the plan: on this rung a restart finds a shorter makespan.
-    let makespan = |extra: &[&str]| {
-        let mut args = vec!["bench", "--filter", "swap_b05_", "--search", "heuristic", "--format", "json"];
-        args.extend_from_slice(extra);
-        let run = kbc(&args);
-        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
-        let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");
-        rows[0]["makespan"].as_f64().expect("a makespan")
-    };
+    let makespan = |extra: &[&str]| row("swap_b05_", extra)["makespan"].as_f64().expect("a makespan");
     assert!(makespan(&["--improve", "1"]) < makespan(&[]));
     let refused = kbc(&["bench", "--filter", "swap_b05_", "--improve", "0"]);
     assert_eq!(refused.status.code(), Some(2));
