@@ -161,7 +161,7 @@ fn fingerprint(state: &State) -> Fingerprint {
 
 /// An open-list entry: landmark count plus h_FF, whether the last action is a start that
 /// holds its arm idle (see [`search`]), the prefix's makespan, h_FF, the time of the last
-/// action, depth, age.
+/// action, depth (with a tie seed, a hash of it and the node instead), age (the node index).
 type Entry = Reverse<(u32, u32, i64, u32, i64, u32, u32)>;
 
 /// True if `action` is one of the relaxed plan's helpful actions, up to the unit of a resource

@@ -209,7 +209,7 @@ impl PlanSettings {
 /// ([`Session::restarts`]). Measured on the ladder (`kbc bench --search heuristic --improve
 /// 1`, seed 1, one run each), against the whole second to the search: the sum of makespans
 /// over the 52 rungs 2673 -> 2651 (restarts alone: 2649), rungs within 1.3x of the bound 26
-/// -> 29 (29); swap_b05 18 -> 14, reverse_b06 22 -> 18, build_b08 24 -> 21. Half each keeps
+/// -> 29 (29); swap_b05 18 -> 14, reverse_b06 22 -> 19, build_b08 24 -> 21. Half each keeps
 /// what only the improving search finds (grid_b06: 5 against 6 from the restarts alone).
 const IMPROVING_SEARCH_SHARE: f64 = 0.5;
 

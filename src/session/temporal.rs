@@ -378,6 +378,7 @@ fn waits(plan: &crate::ir::plan::Plan, timed: &Timed) -> Vec<i64> {
 fn held(kb: &Kb, plan: &crate::ir::plan::Plan, timed: &Timed) -> Vec<(i64, i64, crate::planner::detour::Held)> {
     let Some(jobs) = crate::passes::reassign::jobs(kb, plan) else { return Vec::new() };
     let earliest = &timed.schedule.earliest;
+    let waits = waits(plan, timed);
     let mut found = Vec::new();
     for steps in jobs.steps() {
         let (Some(&first), Some(&last)) = (steps.first(), steps.last()) else { continue };
@@ -387,8 +388,7 @@ fn held(kb: &Kb, plan: &crate::ir::plan::Plan, timed: &Timed) -> Vec<(i64, i64, 
             if !steps.contains(&start) {
                 continue;
             }
-            let min = timed.stn.durations[start].map_or(0, |b| b.min);
-            let wait = earliest[end] - earliest[start] - min;
+            let wait = waits[start];
             if wait > 0 && longest.is_none_or(|(w, _, _)| wait > w) {
                 longest = Some((wait, start, end));
             }
