@@ -243,9 +243,9 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     assert_ne!(expanded(&[]), expanded(&["--lookahead"]));
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
     // `--improve` reaches the plan: on this rung a restart finds a shorter makespan.
-    let makespan = |extra: &[&str]| row("swap_b05_", extra)["makespan"].as_f64().expect("a makespan");
+    let makespan = |extra: &[&str]| row("build_b06_", extra)["makespan"].as_f64().expect("a makespan");
     assert!(makespan(&["--improve", "1"]) < makespan(&[]));
-    let refused = kbc(&["bench", "--filter", "swap_b05_", "--improve", "0"]);
+    let refused = kbc(&["bench", "--filter", "build_b06_", "--improve", "0"]);
     assert_eq!(refused.status.code(), Some(2));
     assert!(stderr(&refused).contains("--improve"), "{}", stderr(&refused));
 }
@@ -882,7 +882,7 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let passes = verbose_passes(&stderr(&build));
     let expected = [
         "parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "relocate", "detour",
-        "relocate", "bt", "codegen",
+        "relocate", "merge", "bt", "codegen",
     ];
     assert_eq!(passes[..expected.len()], expected, "{passes:?}");
     assert!(stdout(&build).starts_with("<?xml"), "the output itself is unchanged");

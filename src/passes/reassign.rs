@@ -151,6 +151,23 @@ impl Jobs<'_> {
     pub fn job_of(&self, i: usize) -> Option<usize> {
         self.job_of[i]
     }
+
+    /// Job `j`'s steps, in plan order.
+    pub fn job(&self, j: usize) -> &[usize] {
+        &self.jobs[j].steps
+    }
+
+    /// The unit the plan gave job `j`.
+    pub fn unit(&self, j: usize) -> &Term {
+        &self.units[self.jobs[j].unit].1
+    }
+
+    /// The units of job `j`'s resource, in the order first met (the initial state, then the
+    /// plan's effects).
+    pub fn units_like(&self, j: usize) -> impl Iterator<Item = &Term> {
+        let template = self.jobs[j].template;
+        self.units.iter().filter(move |(t, _)| *t == template).map(|(_, term)| term)
+    }
 }
 
 /// The jobs of `plan`, or `None` when the pass does not apply to it (see the module docs).
@@ -410,7 +427,7 @@ fn rearranged(plan: &Plan, problem: &Problem, times: &[i64], units: &[usize]) ->
 }
 
 /// `term` with every `from` replaced by `to`.
-fn replace(term: &Term, from: &Term, to: &Term) -> Term {
+pub(crate) fn replace(term: &Term, from: &Term, to: &Term) -> Term {
     if term == from {
         return to.clone();
     }

@@ -42,6 +42,14 @@
 //! the bound. On reverse_b100_a10 every replay failed (a place ran out where the plan had
 //! one, taken by a relocated block) until the replays protected the plan's own places:
 //! 239 -> 151.
+//!
+//! [`merge`] undoes a decision the other way: a block put aside (by the search or by a
+//! detour) and taken on soon after by another job stays in the first job's arm and goes
+//! straight to its second place, one grip, move and release fewer. On the ladder's small swap
+//! rungs the search puts a block aside for a unit or two, its arm idle meanwhile
+//! (swap_b05_a3_s1: 18 -> 13, nine moves -> seven; the sum over the 52 rungs of seed 1 2684 ->
+//! 2647 with the cycles of `session::temporal::reassign`, 25 -> 28 rungs within 1.3x of the
+//! bound).
 
 use rustc_hash::FxHashMap;
 
@@ -49,7 +57,7 @@ use super::successors::{self, Applicable, Successors};
 use super::{path_of, plan_from};
 use crate::ir::hir::{Snap, Term};
 use crate::ir::plan::Plan;
-use crate::ir::task::{Pattern, State, Task};
+use crate::ir::task::{ConstId, Pattern, State, Task};
 
 /// A held start to send aside: plan indices.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -415,6 +423,277 @@ impl Rewriter<'_, '_> {
             }
         }
         None
+    }
+}
+
+/// Two jobs that move one thing, made one: `first` leaves the thing somewhere for a while (a
+/// relocatable start, see [`relocate`]) and `second`, in another job, takes it on from there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Merge {
+    /// The first job's start.
+    pub first: usize,
+    /// The second job's start, which leaves from where `first` went.
+    pub second: usize,
+}
+
+/// The merges `plan` offers ([`merge`]): each relocatable start with the start that takes
+/// what it moved on from there, when each is its job's only step between its start and end
+/// (`jobs` are the plan's, see [`crate::passes::reassign::jobs`]).
+pub fn merges(
+    successors: &mut Successors<'_>,
+    task: &mut Task,
+    plan: &Plan,
+    jobs: &crate::passes::reassign::Jobs<'_>,
+) -> Result<Vec<Merge>, Failure> {
+    let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
+    let leaving = rewriter.leaving(task, &path);
+    let alone = |start: usize| -> Option<usize> {
+        let end = rewriter.end_index[start]?;
+        let job = jobs.job_of(start)?;
+        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
+    };
+    Ok((0..path.len())
+        .filter_map(|first| {
+            let second = leaving[first]?;
+            (alone(first)? != alone(second)?).then_some(Merge { first, second })
+        })
+        .collect())
+}
+
+/// How many steps a [`merge`] replay may hold back at once before it gives up.
+const MERGE_PENDING: usize = 64;
+
+/// `plan` with the jobs of each of `merges` made one: at the first start's place, the start
+/// named as it is but with the second start's chosen values (the block goes straight to
+/// where its second move took it); the first job's end and later steps, and the second job's
+/// steps up to its start, are left out; at the second start's end's place, the end of the
+/// merged start, and the second job's later steps then name the first job's unit (the arm
+/// holds the block all along). Merges must not share a job.
+///
+/// The merged job holds its unit longer, so a later job may find every unit taken, or a step
+/// may find what it needs not there yet: such a step is held back, with the later steps of its
+/// job, and taken as soon as it applies after a later step (held-back steps first, in plan
+/// order). A job whose own unit is taken when its first step comes takes the first other
+/// unit of its resource free then, and names it in all its steps. Every step comes from the
+/// actions applicable in the state reached, so the result is a valid plan or none: a step
+/// still held back at the end (or more than [`MERGE_PENDING`] at once) blames the latest merge
+/// under way when it was held back (`Failure::Detour` with its index). The inverse of a detour;
+/// nothing in it is specific to a domain.
+pub fn merge(
+    successors: &mut Successors<'_>,
+    task: &mut Task,
+    plan: &Plan,
+    jobs: &crate::passes::reassign::Jobs<'_>,
+    merges: &[Merge],
+) -> Result<Rewritten, Failure> {
+    let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
+    let mut replay = MergeReplay {
+        rewriter,
+        jobs,
+        merges,
+        path: &path,
+        skip: vec![false; path.len()],
+        at_first: FxHashMap::default(),
+        at_end: FxHashMap::default(),
+        start_of: FxHashMap::default(),
+        started: FxHashMap::default(),
+        renamed: FxHashMap::default(),
+        active: Vec::new(),
+        state: task.init.clone(),
+        out: Vec::with_capacity(path.len()),
+    };
+    for (start, end) in replay.rewriter.end_index.iter().enumerate() {
+        if let Some(end) = end {
+            replay.start_of.insert(*end, start);
+        }
+    }
+    for (m, merge) in merges.iter().enumerate() {
+        let ends = (replay.rewriter.end_index[merge.first], replay.rewriter.end_index[merge.second]);
+        let jobs_of = (jobs.job_of(merge.first), jobs.job_of(merge.second));
+        let ((Some(end1), Some(end2)), (Some(j1), Some(j2))) = (ends, jobs_of) else {
+            return Err(Failure::Detour(m));
+        };
+        if j1 == j2 {
+            return Err(Failure::Detour(m));
+        }
+        for &k in jobs.job(j1).iter().filter(|&&k| k >= end1) {
+            replay.skip[k] = true;
+        }
+        for &k in jobs.job(j2).iter().filter(|&&k| k <= merge.second) {
+            replay.skip[k] = true;
+        }
+        replay.at_first.insert(merge.first, m);
+        replay.at_end.insert(end2, (m, j1, j2));
+    }
+    // Steps held back, in plan order, each with the merge to blame if it stays so.
+    let mut pending: Vec<(usize, Failure)> = Vec::new();
+    let mut taken = Vec::new();
+    for k in 0..path.len() {
+        if replay.skip[k] {
+            continue;
+        }
+        let job = jobs.job_of(k);
+        let behind = job.is_some() && pending.iter().any(|&(p, _)| jobs.job_of(p) == job);
+        if behind || !replay.take(task, k, &mut taken)? {
+            let blame = match replay.at_end.get(&k) {
+                Some(&(m, _, _)) => Failure::Detour(m),
+                None => replay.active.last().map_or(Failure::Plan, |(m, _)| Failure::Detour(*m)),
+            };
+            pending.push((k, blame));
+            if pending.len() > MERGE_PENDING {
+                return Err(pending[0].1);
+            }
+            continue;
+        }
+        // What was held back, as soon as it applies.
+        let mut progress = true;
+        while progress {
+            progress = false;
+            let mut i = 0;
+            while i < pending.len() {
+                let (p, _) = pending[i];
+                let job = jobs.job_of(p);
+                let first_of_job = job.is_none() || !pending[..i].iter().any(|&(q, _)| jobs.job_of(q) == job);
+                if first_of_job && replay.take(task, p, &mut taken)? {
+                    pending.remove(i);
+                    progress = true;
+                } else {
+                    i += 1;
+                }
+            }
+        }
+    }
+    if let Some(&(_, blame)) = pending.first() {
+        return Err(blame);
+    }
+    if !successors::goal_reached(task, &replay.state) {
+        return Err(replay.active.last().map_or(Failure::Plan, |(m, _)| Failure::Detour(*m)));
+    }
+    Ok(Rewritten { plan: plan_from(task, &replay.out), taken })
+}
+
+/// The state of a [`merge`] replay.
+struct MergeReplay<'s, 'p, 'a> {
+    rewriter: Rewriter<'s, 'p>,
+    jobs: &'a crate::passes::reassign::Jobs<'a>,
+    merges: &'a [Merge],
+    path: &'a [Applicable],
+    /// The steps the merges leave out.
+    skip: Vec<bool>,
+    /// The merge whose first start each step is.
+    at_first: FxHashMap<usize, usize>,
+    /// The merge whose second start's end each step is, with the two jobs.
+    at_end: FxHashMap<usize, (usize, usize, usize)>,
+    /// For each end of the plan, its start.
+    start_of: FxHashMap<usize, usize>,
+    /// The starts taken otherwise than the plan has them (renamed or merged), as taken.
+    started: FxHashMap<usize, Applicable>,
+    /// The unit each renamed job names instead of its own.
+    renamed: FxHashMap<usize, (ConstId, ConstId)>,
+    /// The merges under way, with their merged starts.
+    active: Vec<(usize, Applicable)>,
+    state: State,
+    out: Vec<Applicable>,
+}
+
+/// `action` with every binding to `from` bound to `to` instead.
+fn rebound(action: &Applicable, from: ConstId, to: ConstId) -> Applicable {
+    let bindings = action.bindings.iter().map(|&b| if b == Some(from) { Some(to) } else { b }).collect();
+    Applicable { bindings, ..action.clone() }
+}
+
+impl MergeReplay<'_, '_, '_> {
+    /// Job `j`'s unit.
+    fn unit(&self, task: &mut Task, j: usize) -> Option<ConstId> {
+        task.consts.from_term(self.jobs.unit(j))
+    }
+
+    /// Takes step `k` (as the merges make it) if it applies in the state reached: `Ok(false)`
+    /// if it does not yet, an error when it never will. Merges whose first start it is go onto
+    /// `taken`.
+    fn take(&mut self, task: &mut Task, k: usize, taken: &mut Vec<usize>) -> Result<bool, Failure> {
+        let original = &self.path[k];
+        let job = self.jobs.job_of(k);
+        let mut step = match job.and_then(|j| self.renamed.get(&j)) {
+            Some(&(from, to)) => rebound(original, from, to),
+            None => original.clone(),
+        };
+        // An end names the running start: as taken.
+        if let Some(start) = self.start_of.get(&k).and_then(|s| self.started.get(s)) {
+            let Task { schemas, consts, .. } = task;
+            step.ends = successors::running_instance(&schemas[start.schema], consts, &start.bindings);
+        }
+        if let Some(&m) = self.at_first.get(&k) {
+            // The start with the second start's chosen values.
+            let second = self.rewriter.names[self.merges[m].second].args().to_vec();
+            let Pattern::Compound(_, args) = task.schemas[step.schema].name.clone() else {
+                return Err(Failure::Detour(m));
+            };
+            for p in chosen_positions(task, step.schema) {
+                let (Pattern::Var(v), Some(value)) = (&args[p], second.get(p)) else { return Err(Failure::Detour(m)) };
+                step.bindings[*v as usize] = task.consts.from_term(value);
+            }
+            if !self.rewriter.applicable(task, &self.state, &step) {
+                let name = successors::action_name(task, &step);
+                match self.rewriter.family(task, step.schema, &self.state, |n| *n == name).into_iter().next() {
+                    Some(found) => step = found,
+                    None => return Ok(false),
+                }
+            }
+            self.active.push((m, step.clone()));
+            self.started.insert(k, step.clone());
+            taken.push(m);
+        } else if let Some(&(m, j1, j2)) = self.at_end.get(&k) {
+            let Some(position) = self.active.iter().position(|(a, _)| *a == m) else { return Err(Failure::Plan) };
+            let start = self.active[position].1.clone();
+            let Some(end) = self.rewriter.end_of(task, &start, original, &self.state) else { return Ok(false) };
+            step = end;
+            self.active.remove(position);
+            let unit = match self.renamed.get(&j1) {
+                Some(&(_, to)) => Some(to),
+                None => self.unit(task, j1),
+            };
+            if let (Some(own), Some(unit)) = (self.unit(task, j2), unit) {
+                self.renamed.insert(j2, (own, unit));
+            }
+        } else if !self.rewriter.applicable(task, &self.state, &step) {
+            // Named as it is (with its job's unit), other values outside its name.
+            let name = successors::action_name(task, &step);
+            if let Some(found) = self.rewriter.family(task, step.schema, &self.state, |n| *n == name).into_iter().next()
+            {
+                if task.schemas[found.schema].snap == Snap::Start {
+                    self.started.insert(k, found.clone());
+                }
+                self.state = successors::apply(task, &self.state, &found);
+                self.out.push(found);
+                return Ok(true);
+            }
+            // A job's first step whose unit is taken: the first other unit free.
+            let Some(j) = job.filter(|&j| self.jobs.job(j).first() == Some(&k) && !self.renamed.contains_key(&j))
+            else {
+                return Ok(false);
+            };
+            let Some(own) = self.unit(task, j) else { return Ok(false) };
+            let others: Vec<ConstId> =
+                self.jobs.units_like(j).filter_map(|u| task.consts.from_term(u)).filter(|&u| u != own).collect();
+            let Some((unit, other)) = others
+                .into_iter()
+                .map(|u| (u, rebound(original, own, u)))
+                .find(|(_, other)| self.rewriter.applicable(task, &self.state, other))
+            else {
+                return Ok(false);
+            };
+            self.renamed.insert(j, (own, unit));
+            step = other;
+            if task.schemas[step.schema].snap == Snap::Start {
+                self.started.insert(k, step.clone());
+            }
+        } else if step != *original && task.schemas[step.schema].snap == Snap::Start {
+            self.started.insert(k, step.clone());
+        }
+        self.state = successors::apply(task, &self.state, &step);
+        self.out.push(step);
+        Ok(true)
     }
 }
 

@@ -1136,8 +1136,10 @@ impl Session {
         // Plans the search scored come shortest last: the last one that can be scheduled is
         // the one.
         let order: Vec<usize> = if scored { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
-        // (index, schedule, makespan before `reassign`, starts it sent aside and relocated)
-        let mut chosen: Option<(usize, Timed, i64, (usize, usize))> = None;
+        // Starts `reassign` sent aside and relocated, and pairs of jobs it merged.
+        type Changes = (usize, usize, usize);
+        // (index, schedule, makespan before `reassign`, what `reassign` changed)
+        let mut chosen: Option<(usize, Timed, i64, Changes)> = None;
         let mut first_failure: Option<Diagnostics> = None;
         for index in order {
             let plan = &mut plans[index];
@@ -1150,9 +1152,9 @@ impl Session {
                         let rearranged =
                             temporal::reassign(kb, interner, &program, task, (std::mem::take(plan), timed), Moves::All);
                         *plan = rearranged.plan;
-                        (rearranged.timed, (rearranged.detours, rearranged.relocated))
+                        (rearranged.timed, (rearranged.detours, rearranged.relocated, rearranged.merged))
                     } else {
-                        (timed, (0, 0))
+                        (timed, (0, 0, 0))
                     };
                     let better =
                         chosen.as_ref().is_none_or(|(_, best, _, _)| timed.schedule.makespan < best.schedule.makespan);
@@ -1187,12 +1189,15 @@ impl Session {
         if timed.schedule.makespan < searched {
             let searched = crate::ir::stn::format_time(searched);
             origin = format!("{origin}, jobs reassigned from a makespan of {searched}");
-            let (detours, relocated) = sent;
+            let (detours, relocated, merged) = sent;
             if relocated > 0 {
                 origin = format!("{origin}, {} relocated", crate::diag::plural(relocated, "start"));
             }
             if detours > 0 {
                 origin = format!("{origin}, {} sent aside", crate::diag::plural(detours, "waiting start"));
+            }
+            if merged > 0 {
+                origin = format!("{origin}, {} merged", crate::diag::plural(merged, "pair") + " of jobs");
             }
         }
         Ok(Planned { problem, plans, index, timed, origin, stats, refinement: None })
@@ -1243,11 +1248,17 @@ impl Session {
         Some((stn, schedule))
     }
 
-    /// The `reassign` pass on a scheduled plan, with its relocations and detours (starts sent
-    /// somewhere cheaper, waiting starts sent aside, [`crate::planner::detour`]), as `kbc plan`
-    /// runs it: the plan and schedule kept (the given ones when no rearrangement is shorter).
+    /// The `reassign` pass on a scheduled plan, with its relocations, detours and merges
+    /// (starts sent somewhere cheaper, waiting starts sent aside, two jobs of one thing made
+    /// one, [`crate::planner::detour`]), as `kbc plan` runs it: the plan and schedule kept
+    /// (the given ones when no rearrangement is shorter).
     pub fn reassign(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
         self.rearrange(plan, timed, Moves::All)
+    }
+
+    /// The `reassign` pass with relocations and detours, once each, and no merges.
+    pub fn detour(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
+        self.rearrange(plan, timed, Moves::Detours)
     }
 
     /// The `reassign` pass without relocations and detours: the same steps, each job given to
