@@ -504,10 +504,13 @@ fn behaviortree_cpp_loads_and_runs_the_xml() {
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("NodeStatus.SUCCESS"), "{text}");
     let ticked: Vec<&str> = lines.next().unwrap_or("").split_whitespace().collect();
-    // Every leaf ran once, starts and ends of the plan's 15 actions among them.
+    // Every leaf ran once, starts and ends of each of the plan's actions among them.
     assert_eq!(ticked.len(), xml.matches("/>").count() - xml.matches("<input_port").count(), "{text}");
-    assert_eq!(ticked.iter().filter(|n| n.ends_with("_start")).count(), 15, "{text}");
-    assert_eq!(ticked.iter().filter(|n| n.ends_with("_end")).count(), 15, "{text}");
+    let plan = plan_lines(&stdout(&kbc(&["plan", "-q", "examples/02_llm_stacking/test_case.pl"])));
+    let actions = plan.iter().filter(|l| l.contains("_start(")).count();
+    assert!(actions > 0, "{plan:?}");
+    assert_eq!(ticked.iter().filter(|n| n.ends_with("_start")).count(), actions, "{text}");
+    assert_eq!(ticked.iter().filter(|n| n.ends_with("_end")).count(), actions, "{text}");
 }
 
 /// `kbc validate KB FILE` on `text` written to a temporary file named after `tag`.
@@ -578,7 +581,9 @@ fn run_recovers_from_a_fault_and_records_it() {
     ]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let out = stdout(&run);
-    assert!(out.contains("FAULT   drop:a2@move_block(a2: `b2` slipped from a2's gripper"), "{out}");
+    // (Whichever block the plan gives a2 first.)
+    let fault = out.lines().find(|l| l.contains("FAULT   drop:a2@move_block(a2: `b")).expect("the fault, reported");
+    assert!(fault.contains("` slipped from a2's gripper"), "{out}");
     assert!(out.contains("% recovery: ") || out.contains("% replanned from the world read back"), "{out}");
     assert!(out.contains("% goal reached after 1 recovery"), "{out}");
     // The record: every frame has a pose per block and a position per gripper, in time order,
@@ -882,14 +887,17 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let passes = verbose_passes(&stderr(&build));
     let expected = [
         "parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "relocate", "detour",
-        "relocate", "merge", "bt", "codegen",
+        "relocate", "merge",
     ];
     assert_eq!(passes[..expected.len()], expected, "{passes:?}");
+    // (Detours, relocations and merges again while they gain, then the back end.)
+    assert!(passes.ends_with(&["bt".to_string(), "codegen".to_string(), "total".to_string()]), "{passes:?}");
     assert!(stdout(&build).starts_with("<?xml"), "the output itself is unchanged");
     // The search's line says what it found and what it cost.
     let text = stderr(&build);
     let search = text.lines().find(|l| l.trim_start().starts_with("search ")).expect("a search line");
-    let steps = plan_lines(&stdout(&kbc(&["plan", "-q", file]))).len();
+    // (The search's plan: merged jobs make the plan `kbc plan` prints shorter.)
+    let steps = plan_lines(&stdout(&kbc(&["plan", "-q", "--no-reassign", file]))).len();
     assert!(search.contains(&format!("a plan of {steps} snap actions")) && search.contains("expanded"), "{search}");
     // The time before the first expansion (analyses, grounding) is shown apart.
     assert!(search.contains("; set-up ") && search.contains(" s; expanded"), "{search}");
