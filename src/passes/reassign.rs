@@ -340,26 +340,17 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         // The step to place next: the one that can happen first (with `reserve`, among
         // those that leave a unit for each started job waiting for a job not started; if
         // none does, among all).
-        let waits_for_unstarted = |j: usize, started: &[bool]| {
-            problem.jobs[j].steps.iter().any(|&s| {
-                time[s].is_none()
-                    && problem.preds[s]
-                        .iter()
-                        .any(|&(p, _)| time[p].is_none() && problem.job_of[p].is_some_and(|q| q != j && !started[q]))
-            })
-        };
         let waiting = if rule.reserve {
             (0..problem.jobs.len())
-                .filter(|&j| started[j] && held[unit_of_job[j]] && waits_for_unstarted(j, &started))
+                .filter(|&j| started[j] && held[unit_of_job[j]] && waits_for_unstarted(problem, &time, &started, j))
                 .count()
         } else {
             0
         };
-        let mut best: Option<((i64, i64, usize), Option<usize>)> = None;
+        let units = Units { free_at: &free_at, held: &held, started: &started };
+        let mut best = None;
         for reserving in [rule.reserve, false] {
-            let units = Units { free_at: &free_at, held: &held, started: &started };
-            let reserve = reserving.then_some(waiting);
-            best = next_step(problem, rule, (&time, &bound), units, reserve, &waits_for_unstarted);
+            best = next_step(problem, rule, (&time, &bound), units, reserving.then_some(waiting));
             if best.is_some() || !reserving {
                 break;
             }
@@ -403,7 +394,6 @@ fn next_step(
     (time, bound): (&[Option<i64>], &[i64]),
     units: Units<'_>,
     reserve: Option<usize>,
-    waits_for_unstarted: &dyn Fn(usize, &[bool]) -> bool,
 ) -> Option<((i64, i64, usize), Option<usize>)> {
     let n = problem.snaps.len();
     let mut best: Option<((i64, i64, usize), Option<usize>)> = None; // ((time, rank, step), unit)
@@ -420,7 +410,7 @@ fn next_step(
                     (0..problem.units.len()).filter(|&u| !units.held[u] && problem.units[u].0 == template).collect();
                 if let Some(waiting) = reserve
                     && free.len() <= waiting + 1
-                    && waits_for_unstarted(j, units.started)
+                    && waits_for_unstarted(problem, time, units.started, j)
                 {
                     continue;
                 }
@@ -447,6 +437,17 @@ fn next_step(
         }
     }
     best
+}
+
+/// Whether a step of job `j` not placed yet waits for a step not placed yet of a job not
+/// `started` (another job's).
+fn waits_for_unstarted(problem: &Problem, time: &[Option<i64>], started: &[bool], j: usize) -> bool {
+    problem.jobs[j].steps.iter().any(|&s| {
+        time[s].is_none()
+            && problem.preds[s]
+                .iter()
+                .any(|&(p, _)| time[p].is_none() && problem.job_of[p].is_some_and(|q| q != j && !started[q]))
+    })
 }
 
 /// How long job `j`, if it started at `at`, could start later without delaying its last step

@@ -47,9 +47,9 @@
 //! detour) and taken on soon after by another job stays in the first job's arm and goes
 //! straight to its second place, one grip, move and release fewer. On the ladder's small swap
 //! rungs the search puts a block aside for a unit or two, its arm idle meanwhile
-//! (swap_b05_a3_s1: 18 -> 13, nine moves -> seven; the sum over the 52 rungs of seed 1 2684 ->
-//! 2647 with the cycles of `session::temporal::reassign`, 25 -> 28 rungs within 1.3x of the
-//! bound).
+//! (measured before the reserving rule of `passes::reassign`: swap_b05_a3_s1 18 -> 13, nine
+//! moves -> seven; the sum over the 52 rungs of seed 1 2684 -> 2647 with the cycles of
+//! `session::temporal::reassign`, 25 -> 28 rungs within 1.3x of the bound).
 
 use rustc_hash::FxHashMap;
 
@@ -523,7 +523,7 @@ pub fn merge(
             replay.skip[k] = true;
         }
         replay.at_first.insert(merge.first, m);
-        replay.at_end.insert(end2, (m, j1, j2));
+        replay.at_end.insert(end2, m);
     }
     // Steps held back, in plan order, each with the merge to blame if it stays so.
     let mut pending: Vec<(usize, Failure)> = Vec::new();
@@ -536,7 +536,7 @@ pub fn merge(
         let behind = job.is_some() && pending.iter().any(|&(p, _)| jobs.job_of(p) == job);
         if behind || !replay.take(task, k, &mut taken)? {
             let blame = match replay.at_end.get(&k) {
-                Some(&(m, _, _)) => Failure::Detour(m),
+                Some(&m) => Failure::Detour(m),
                 None => replay.active.last().map_or(Failure::Plan, |(m, _)| Failure::Detour(*m)),
             };
             pending.push((k, blame));
@@ -582,8 +582,8 @@ struct MergeReplay<'s, 'p, 'a> {
     skip: Vec<bool>,
     /// The merge whose first start each step is.
     at_first: FxHashMap<usize, usize>,
-    /// The merge whose second start's end each step is, with the two jobs.
-    at_end: FxHashMap<usize, (usize, usize, usize)>,
+    /// The merge whose second start's end each step is.
+    at_end: FxHashMap<usize, usize>,
     /// For each end of the plan, its start.
     start_of: FxHashMap<usize, usize>,
     /// The starts taken otherwise than the plan has them (renamed or merged), as taken.
@@ -603,6 +603,12 @@ fn rebound(action: &Applicable, from: ConstId, to: ConstId) -> Applicable {
 }
 
 impl MergeReplay<'_, '_, '_> {
+    /// The applicable action named as `step` is, in the state reached.
+    fn named(&mut self, task: &mut Task, step: &Applicable) -> Option<Applicable> {
+        let name = successors::action_name(task, step);
+        self.rewriter.named(task, step.schema, &self.state, &name)
+    }
+
     /// Job `j`'s unit.
     fn unit(&self, task: &mut Task, j: usize) -> Option<ConstId> {
         task.consts.from_term(self.jobs.unit(j))
@@ -634,61 +640,55 @@ impl MergeReplay<'_, '_, '_> {
                 step.bindings[*v as usize] = task.consts.from_term(value);
             }
             if !self.rewriter.applicable(task, &self.state, &step) {
-                let name = successors::action_name(task, &step);
-                match self.rewriter.family(task, step.schema, &self.state, |n| *n == name).into_iter().next() {
+                match self.named(task, &step) {
                     Some(found) => step = found,
                     None => return Ok(false),
                 }
             }
             self.active.push((m, step.clone()));
-            self.started.insert(k, step.clone());
             taken.push(m);
-        } else if let Some(&(m, j1, j2)) = self.at_end.get(&k) {
+        } else if let Some(&m) = self.at_end.get(&k) {
             let Some(position) = self.active.iter().position(|(a, _)| *a == m) else { return Err(Failure::Plan) };
             let start = self.active[position].1.clone();
             let Some(end) = self.rewriter.end_of(task, &start, original, &self.state) else { return Ok(false) };
             step = end;
             self.active.remove(position);
-            let unit = match self.renamed.get(&j1) {
-                Some(&(_, to)) => Some(to),
-                None => self.unit(task, j1),
-            };
-            if let (Some(own), Some(unit)) = (self.unit(task, j2), unit) {
-                self.renamed.insert(j2, (own, unit));
+            // The second job's later steps name the first job's unit.
+            let (j1, j2) = (self.jobs.job_of(self.merges[m].first), self.jobs.job_of(self.merges[m].second));
+            if let (Some(j1), Some(j2)) = (j1, j2) {
+                let unit = match self.renamed.get(&j1) {
+                    Some(&(_, to)) => Some(to),
+                    None => self.unit(task, j1),
+                };
+                if let (Some(own), Some(unit)) = (self.unit(task, j2), unit) {
+                    self.renamed.insert(j2, (own, unit));
+                }
             }
         } else if !self.rewriter.applicable(task, &self.state, &step) {
-            // Named as it is (with its job's unit), other values outside its name.
-            let name = successors::action_name(task, &step);
-            if let Some(found) = self.rewriter.family(task, step.schema, &self.state, |n| *n == name).into_iter().next()
-            {
-                if task.schemas[found.schema].snap == Snap::Start {
-                    self.started.insert(k, found.clone());
-                }
-                self.state = successors::apply(task, &self.state, &found);
-                self.out.push(found);
-                return Ok(true);
+            // Named as it is (with its job's unit), other values outside its name; else, a
+            // job's first step whose unit is taken: the first other unit free.
+            if let Some(found) = self.named(task, &step) {
+                step = found;
+            } else {
+                let Some(j) = job.filter(|&j| self.jobs.job(j).first() == Some(&k) && !self.renamed.contains_key(&j))
+                else {
+                    return Ok(false);
+                };
+                let Some(own) = self.unit(task, j) else { return Ok(false) };
+                let others: Vec<ConstId> =
+                    self.jobs.units_like(j).filter_map(|u| task.consts.from_term(u)).filter(|&u| u != own).collect();
+                let Some((unit, other)) = others
+                    .into_iter()
+                    .map(|u| (u, rebound(original, own, u)))
+                    .find(|(_, other)| self.rewriter.applicable(task, &self.state, other))
+                else {
+                    return Ok(false);
+                };
+                self.renamed.insert(j, (own, unit));
+                step = other;
             }
-            // A job's first step whose unit is taken: the first other unit free.
-            let Some(j) = job.filter(|&j| self.jobs.job(j).first() == Some(&k) && !self.renamed.contains_key(&j))
-            else {
-                return Ok(false);
-            };
-            let Some(own) = self.unit(task, j) else { return Ok(false) };
-            let others: Vec<ConstId> =
-                self.jobs.units_like(j).filter_map(|u| task.consts.from_term(u)).filter(|&u| u != own).collect();
-            let Some((unit, other)) = others
-                .into_iter()
-                .map(|u| (u, rebound(original, own, u)))
-                .find(|(_, other)| self.rewriter.applicable(task, &self.state, other))
-            else {
-                return Ok(false);
-            };
-            self.renamed.insert(j, (own, unit));
-            step = other;
-            if task.schemas[step.schema].snap == Snap::Start {
-                self.started.insert(k, step.clone());
-            }
-        } else if step != *original && task.schemas[step.schema].snap == Snap::Start {
+        }
+        if step != *original && task.schemas[step.schema].snap == Snap::Start {
             self.started.insert(k, step.clone());
         }
         self.state = successors::apply(task, &self.state, &step);
@@ -810,7 +810,13 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     /// The applicable action of step `k`'s family named as step `k` is.
     fn same(&mut self, task: &mut Task, path: &[Applicable], k: usize, state: &State) -> Option<Applicable> {
         let name = self.names[k].clone();
-        self.family(task, path[k].schema, state, |n| *n == name).into_iter().next()
+        self.named(task, path[k].schema, state, &name)
+    }
+
+    /// The applicable action of `schema`'s family named `name` (whatever its values outside
+    /// its name).
+    fn named(&mut self, task: &mut Task, schema: usize, state: &State, name: &Term) -> Option<Applicable> {
+        self.family(task, schema, state, |n| n == name).into_iter().next()
     }
 
     /// The end of the running start `start` applicable in `state`, in the family of `end`.

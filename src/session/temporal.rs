@@ -100,8 +100,9 @@ const DETOUR_ROUNDS: usize = 4;
 /// cycle shortens the plan by more than one part in [`CYCLE_GAIN`]: each pass's changes give
 /// the others new material (a merge leaves an arm waiting that a detour sends aside, a
 /// detour leaves a block aside briefly that a merge takes straight on). Measured on the
-/// ladder's seed 1 (`kbc bench --search heuristic`) against one cycle: reverse_b25 52 -> 49,
-/// swap_b10 27 -> 24, swap_b25 51 -> 50, nothing longer; the sum of makespans 2654 -> 2647.
+/// ladder's seed 1 (`kbc bench --search heuristic`) against one cycle, before the reserving
+/// rule of `passes::reassign`: reverse_b25 52 -> 49, swap_b10 27 -> 24, swap_b25 51 -> 50,
+/// nothing longer; the sum of makespans 2654 -> 2647.
 const CYCLES: usize = 3;
 
 /// See [`CYCLES`].
@@ -176,6 +177,7 @@ pub(crate) fn reassign(
     }
     // Relocating before the detours gives them shorter moves to work from; after them, the
     // places they chose are relocated in turn.
+    let relocate = |cx: &mut Rearranging<'_, '_>, plan| pass(cx, ("relocate", "starts relocated"), relocations, plan);
     let (plan, timed, relocated) = relocate(&mut cx, (plan, timed));
     if moves == Moves::Relocations {
         return Rearranged { plan, timed, detours: 0, relocated, merged: 0 };
@@ -184,25 +186,15 @@ pub(crate) fn reassign(
     let (mut sent, mut relocated, mut merged) = (0, relocated, 0);
     for _ in 0..CYCLES {
         let start = timed.schedule.makespan;
-        let before = timed.schedule.makespan;
-        let aside;
-        Rearranged { plan, timed, detours: aside, .. } = super::timing::time(
-            "detour",
-            || detours(&mut cx, (plan, timed)),
-            |rearranged| {
-                let (from, to) = (before, rearranged.timed.schedule.makespan);
-                format!("{}, {} starts sent aside", change(from, to), rearranged.detours)
-            },
-        );
+        let (aside, again, joined);
+        (plan, timed, aside) = pass(&mut cx, ("detour", "starts sent aside"), detours, (plan, timed));
         sent += aside;
-        let again;
         (plan, timed, again) = relocate(&mut cx, (plan, timed));
         relocated += again;
         if moves == Moves::Detours {
             break;
         }
-        let joined;
-        (plan, timed, joined) = merge(&mut cx, (plan, timed));
+        (plan, timed, joined) = pass(&mut cx, ("merge", "jobs merged"), merges, (plan, timed));
         merged += joined;
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
@@ -216,35 +208,23 @@ fn change(from: i64, to: i64) -> String {
     format!("makespan {} -> {}", crate::ir::stn::format_time(from), crate::ir::stn::format_time(to))
 }
 
-/// [`relocations`] as a pass of its own in `-v`'s list.
-fn relocate(
-    cx: &mut Rearranging<'_, '_>,
-    (plan, timed): (crate::ir::plan::Plan, Timed),
-) -> (crate::ir::plan::Plan, Timed, usize) {
-    let before = timed.schedule.makespan;
-    super::timing::time(
-        "relocate",
-        || relocations(cx, (plan, timed)),
-        |(_, timed, relocated)| {
-            let (from, to) = (before, timed.schedule.makespan);
-            format!("{}, {relocated} starts relocated", change(from, to))
-        },
-    )
-}
+/// How [`reassign`] moves a plan on: the plan and schedule to the ones kept and how many
+/// changes they made ([`relocations`], [`detours`], [`merges`]).
+type Step = fn(&mut Rearranging<'_, '_>, (crate::ir::plan::Plan, Timed)) -> (crate::ir::plan::Plan, Timed, usize);
 
-/// [`merges`] as a pass of its own in `-v`'s list.
-fn merge(
+/// `step` as a pass of its own in `-v`'s list, named `name`, its line saying the makespan before
+/// and after and how many changes it made (`what`: "starts relocated").
+fn pass(
     cx: &mut Rearranging<'_, '_>,
+    (name, what): (&'static str, &str),
+    step: Step,
     (plan, timed): (crate::ir::plan::Plan, Timed),
 ) -> (crate::ir::plan::Plan, Timed, usize) {
     let before = timed.schedule.makespan;
     super::timing::time(
-        "merge",
-        || {
-            let Rearranged { plan, timed, merged, .. } = merges(cx, (plan, timed));
-            (plan, timed, merged)
-        },
-        |(_, timed, merged)| format!("{}, {merged} jobs merged", change(before, timed.schedule.makespan)),
+        name,
+        || step(cx, (plan, timed)),
+        |(_, timed, made)| format!("{}, {made} {what}", change(before, timed.schedule.makespan)),
     )
 }
 
@@ -306,19 +286,19 @@ fn rearrange(
     (plan, timed)
 }
 
-/// The detour rounds of [`reassign`].
-fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan::Plan, Timed)) -> Rearranged {
+/// The detour rounds of [`reassign`], with how many starts the plans kept sent aside.
+fn detours(
+    cx: &mut Rearranging<'_, '_>,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
     use crate::planner::detour;
     let (kb, program) = (cx.kb, cx.program);
-    let mut sent = 0;
     let mut cost = least_duration(kb, program);
-    for _ in 0..DETOUR_ROUNDS {
-        let waiting = held(kb, &plan, &timed);
+    rounds(cx, (plan, timed), DETOUR_ROUNDS, |cx, plan, timed, best| {
+        let waiting = held(kb, plan, timed);
         let mut tried: Vec<Vec<detour::Held>> = Vec::new();
         // The starts sent aside by each rewrite made.
         let mut taken: Vec<Vec<usize>> = Vec::new();
-        // (plan, schedule, starts sent aside)
-        let mut best: Option<(crate::ir::plan::Plan, Timed, usize)> = None;
         for factor in DETOUR_FACTORS {
             let mut set: Vec<detour::Held> = waiting
                 .iter()
@@ -330,7 +310,7 @@ fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan
             }
             tried.push(set.clone());
             let rewritten = retried(cx, &mut set, |cx, set| {
-                let found = detour::rewrite(&mut cx.successors, cx.task, &plan, set, &mut cost)?;
+                let found = detour::rewrite(&mut cx.successors, cx.task, plan, set, &mut cost)?;
                 // (The same detours as a candidate tried already: the same plan.)
                 let starts: Vec<usize> = found.taken.iter().map(|&d| set[d].start).collect();
                 if starts.is_empty() || taken.contains(&starts) {
@@ -341,18 +321,36 @@ fn detours(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan
                 Ok(Some((found.plan, count)))
             });
             if let Some(rewritten) = rewritten {
-                keep_shorter(cx, &timed, rewritten, &mut best);
+                keep_shorter(cx, timed, rewritten, best);
             }
         }
-        match best {
-            Some((found, scheduled, count)) => {
-                (plan, timed) = (found, scheduled);
-                sent += count;
-            }
-            None => break,
-        }
+    })
+}
+
+/// Up to `count` rounds of `round`, which offers plans rewritten from the plan it is given to
+/// [`keep_shorter`] (with the schedule it is given and the best so far): the shortest offered
+/// replaces the plan, and the rounds stop when none is shorter. With the sum of the changes the
+/// plans kept made.
+fn rounds(
+    cx: &mut Rearranging<'_, '_>,
+    (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
+    count: usize,
+    mut round: impl FnMut(
+        &mut Rearranging<'_, '_>,
+        &crate::ir::plan::Plan,
+        &Timed,
+        &mut Option<(crate::ir::plan::Plan, Timed, usize)>,
+    ),
+) -> (crate::ir::plan::Plan, Timed, usize) {
+    let mut changes = 0;
+    for _ in 0..count {
+        let mut best = None;
+        round(cx, &plan, &timed, &mut best);
+        let Some((found, scheduled, made)) = best else { break };
+        (plan, timed) = (found, scheduled);
+        changes += made;
     }
-    Rearranged { plan, timed, detours: sent, relocated: 0, merged: 0 }
+    (plan, timed, changes)
 }
 
 /// `rewrite` of the changes `set`, each failure's blamed change dropped before trying again,
@@ -412,13 +410,15 @@ const MERGE_STAYS: [i64; 3] = [1, 4, 16];
 /// The merging rounds of [`reassign`]: jobs that move one thing twice in a row made one
 /// ([`crate::planner::detour::merge`]), those whose thing stays put briefly first; kept when
 /// the rewritten plan, scheduled and reassigned, is shorter. With how many merges it kept.
-fn merges(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan::Plan, Timed)) -> Rearranged {
+fn merges(
+    cx: &mut Rearranging<'_, '_>,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
     use crate::planner::detour;
     let kb = cx.kb;
-    let mut merged = 0;
-    for _ in 0..MERGE_ROUNDS {
-        let Some(jobs) = crate::passes::reassign::jobs(kb, &plan) else { break };
-        let Ok(offered) = detour::merges(&mut cx.successors, cx.task, &plan, &jobs) else { break };
+    rounds(cx, (plan, timed), MERGE_ROUNDS, |cx, plan, timed, best| {
+        let Some(jobs) = crate::passes::reassign::jobs(kb, plan) else { return };
+        let Ok(offered) = detour::merges(&mut cx.successors, cx.task, plan, &jobs) else { return };
         let earliest = &timed.schedule.earliest;
         // (stay, first job's length, merge)
         let mut ranked: Vec<(i64, i64, detour::Merge)> = Vec::new();
@@ -433,7 +433,6 @@ fn merges(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan:
         }
         ranked.sort_by_key(|(stay, _, m)| (*stay, m.first));
         let mut tried: Vec<Vec<detour::Merge>> = Vec::new();
-        let mut best: Option<(crate::ir::plan::Plan, Timed, usize)> = None;
         for quarters in MERGE_STAYS {
             // Merges that share no job, the briefest stays first.
             let mut set: Vec<detour::Merge> = Vec::new();
@@ -451,23 +450,15 @@ fn merges(cx: &mut Rearranging<'_, '_>, (mut plan, mut timed): (crate::ir::plan:
             }
             tried.push(set.clone());
             let rewritten = retried(cx, &mut set, |cx, set| {
-                let found = detour::merge(&mut cx.successors, cx.task, &plan, &jobs, set)?;
+                let found = detour::merge(&mut cx.successors, cx.task, plan, &jobs, set)?;
                 let count = found.taken.len();
                 Ok((count > 0).then_some((found.plan, count)))
             });
             if let Some(rewritten) = rewritten {
-                keep_shorter(cx, &timed, rewritten, &mut best);
+                keep_shorter(cx, timed, rewritten, best);
             }
         }
-        match best {
-            Some((found, scheduled, count)) => {
-                (plan, timed) = (found, scheduled);
-                merged += count;
-            }
-            None => break,
-        }
-    }
-    Rearranged { plan, timed, detours: 0, relocated: 0, merged }
+    })
 }
 
 /// The least duration (STN time) of the durative action of index `action` (in
