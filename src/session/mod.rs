@@ -207,7 +207,8 @@ impl PlanSettings {
 /// The share of `--improve`'s time that the search spends improving its own first plan
 /// (`Options::improve`); restarts with other tie-breaks take the rest
 /// ([`Session::restarts`]). Measured on the ladder (`kbc bench --search heuristic --improve
-/// 1`, seed 1, one run each), against the whole second to the search: the sum of makespans
+/// 1`, seed 1, one run each, before the merges and the reserving rule of `reassign`), against
+/// the whole second to the search: the sum of makespans
 /// over the 52 rungs 2673 -> 2651 (restarts alone: 2649), rungs within 1.3x of the bound 26
 /// -> 29 (29); swap_b05 18 -> 14, reverse_b06 22 -> 19, build_b08 24 -> 21. Half each keeps
 /// what only the improving search finds (grid_b06: 5 against 6 from the restarts alone).
