@@ -119,8 +119,13 @@ pub struct Pop {
     pub steps: Vec<PopStep>,
     /// The goal literals, matched against the final state, with their achievers.
     pub goal: Vec<Condition>,
-    /// The orderings, without repeats, sorted by (after, before).
+    /// The orderings, without repeats, sorted by (after, before): one per pair of steps, with
+    /// its strongest reason.
     pub orderings: Vec<Ordering>,
+    /// The other reasons for pairs in `orderings`, sorted the same way. A pass that discards
+    /// orderings for some reasons (`reassign` drops those through a unit's resource fact) must
+    /// look here too: one step can both give an arm back and make a block clear for it.
+    pub other_reasons: Vec<Ordering>,
 }
 
 impl Pop {
@@ -199,7 +204,8 @@ pub fn print(interner: &Interner, pop: &Pop) -> String {
 
 /// Checks the invariants: indices in range, every ordering agrees with the total order (so the
 /// orderings are acyclic), every last achiever is among the candidates and before its step,
-/// ends know their starts. A failure is a compiler bug.
+/// ends know their starts, every other reason is for an ordering's pair. A failure is a
+/// compiler bug.
 pub fn verify(kb: &Kb, pop: &Pop) -> Result<(), String> {
     let n = pop.steps.len();
     let check_condition = |step: Option<usize>, c: &Condition| -> Result<(), String> {
@@ -235,6 +241,20 @@ pub fn verify(kb: &Kb, pop: &Pop) -> Result<(), String> {
     }
     if pop.orderings.windows(2).any(|w| (w[0].after, w[0].before) >= (w[1].after, w[1].before)) {
         return Err("orderings are not sorted without repeats".to_string());
+    }
+    for o in &pop.other_reasons {
+        let pair = |p: &Ordering| (p.after, p.before);
+        match pop.orderings.binary_search_by_key(&pair(o), pair) {
+            Ok(i) if pop.orderings[i] != *o => {}
+            _ => {
+                return Err(format!(
+                    "reason {:?} for a{} < a{} is not another reason of an ordering",
+                    o.reason,
+                    o.before + 1,
+                    o.after + 1
+                ));
+            }
+        }
     }
     Ok(())
 }

@@ -254,14 +254,15 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
             last,
         });
     }
-    let mut orderings = builder.orderings;
-    sort_orderings(&mut orderings);
-    Pop { problem: plan.problem, steps, goal, orderings }
+    let mut pop = Pop { problem: plan.problem, steps, goal, orderings: builder.orderings, other_reasons: Vec::new() };
+    sort_orderings(&mut pop);
+    pop
 }
 
-/// One ordering per pair, with its strongest reason: an achiever link, then a start and its
-/// end, then a threat, then a shared unit.
-fn sort_orderings(orderings: &mut Vec<Ordering>) {
+/// One ordering per pair in `pop.orderings`, with its strongest reason: an achiever link, then
+/// a start and its end, then a threat, then a shared unit; the pair's other reasons, without
+/// repeats, in `pop.other_reasons`.
+fn sort_orderings(pop: &mut Pop) {
     let rank = |reason: &Reason| match reason {
         Reason::Achiever { .. } => 0,
         Reason::StartEnd => 1,
@@ -269,8 +270,31 @@ fn sort_orderings(orderings: &mut Vec<Ordering>) {
         Reason::Refinement => 3,
         Reason::SameUnit => 4,
     };
-    orderings.sort_by_key(|o| (o.after, o.before, rank(&o.reason)));
-    orderings.dedup_by_key(|o| (o.after, o.before));
+    let mut all = std::mem::take(&mut pop.orderings);
+    all.append(&mut pop.other_reasons);
+    // Stable: of reasons of one rank, the first made is kept.
+    all.sort_by_key(|o| (o.after, o.before, rank(&o.reason)));
+    for ordering in all {
+        match pop.orderings.last() {
+            Some(last) if (last.after, last.before) == (ordering.after, ordering.before) => {
+                if *last != ordering {
+                    pop.other_reasons.push(ordering)
+                }
+            }
+            _ => pop.orderings.push(ordering),
+        }
+    }
+    pop.other_reasons.sort_by_key(|o| (o.after, o.before, rank(&o.reason), reason_key(&o.reason)));
+    pop.other_reasons.dedup();
+}
+
+/// A total order among reasons of one rank, so that the lists are deterministic.
+fn reason_key(reason: &Reason) -> (usize, usize) {
+    match *reason {
+        Reason::Achiever { condition } => (0, condition),
+        Reason::Threat { consumer, condition } => (consumer, condition),
+        Reason::StartEnd | Reason::Refinement | Reason::SameUnit => (0, 0),
+    }
 }
 
 /// Values for the goal's variables under which every goal literal is a fact of `facts`.
@@ -327,7 +351,7 @@ pub fn order_units(pop: &mut Pop, units: &[Term]) {
             last[u] = Some(i);
         }
     }
-    sort_orderings(&mut pop.orderings);
+    sort_orderings(pop);
 }
 
 fn mentions(term: &Term, unit: &Term) -> bool {
@@ -376,5 +400,5 @@ pub fn order_by_refinement(pop: &mut Pop, origin: &[usize], high: &Pop) {
             }
         }
     }
-    sort_orderings(&mut pop.orderings);
+    sort_orderings(pop);
 }

@@ -276,7 +276,9 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
     let through_resource = |literal: &Term| templates.iter().any(|t| unifiable(t.term, literal));
     let snaps: Vec<Snap> = pop.steps.iter().map(|s| s.snap).collect();
     let mut preds: Vec<Vec<(usize, i64)>> = vec![Vec::new(); n];
-    for ordering in &pop.orderings {
+    // A pair kept for a resource fact may have other reasons too (`release_end(a1, b1)` gives
+    // the arm back and makes b1 clear for the arm's next grip): any one of them keeps it.
+    for ordering in pop.orderings.iter().chain(&pop.other_reasons) {
         let literal = match ordering.reason {
             Reason::Achiever { condition } => pop.steps[ordering.after].conditions.get(condition).map(|c| &c.literal),
             Reason::Threat { consumer, condition } if consumer < n => {
@@ -291,6 +293,10 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
             continue;
         }
         preds[ordering.after].push((ordering.before, stn.epsilon));
+    }
+    for list in &mut preds {
+        list.sort_unstable();
+        list.dedup();
     }
     for (end, step) in pop.steps.iter().enumerate() {
         if let Some(start) = step.start {
