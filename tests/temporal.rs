@@ -515,6 +515,29 @@ fn reassigning_needs_a_renewable_resource_and_every_unit_in_a_job() {
     assert!(passes::reassign::candidates(held.kb(), &plan, &timed.pop, &timed.stn).is_empty());
 }
 
+/// A resource whose template no action changes (the grid rungs' `resources(agent(_))`, with
+/// `agent(a1).` facts in the KB) is taken and given back through its units' one-argument facts
+/// that effects delete and add (`free(a1)`): each job is a move's start and end, and the pass
+/// rearranges the plan. Without those facts (a unit never taken), it leaves the plan alone.
+#[test]
+fn a_static_resource_template_makes_jobs_of_its_units_free_facts() {
+    let rung = ladder::Rung { family: ladder::Family::Grid, blocks: 10, arms: 2, seed: 1 };
+    let mut session = Session::from_text(&rung.name(), rung.source());
+    let plan = search(&mut session, 0);
+    let jobs = passes::reassign::jobs(session.kb(), &plan).expect("jobs");
+    let steps: Vec<&[usize]> = jobs.steps().collect();
+    assert_eq!(steps.len() * 2, plan.steps.len(), "a job per move");
+    assert!(steps.iter().all(|s| s.len() == 2), "{steps:?}");
+    let timed = timed(&mut session, &plan);
+    assert!(!passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn).is_empty());
+    // `busy(A)` added instead of `free(A)` deleted: no step takes a unit, so no jobs.
+    let source = rung.source().replace("del(free(A))", "add(busy(A))");
+    let mut session = Session::from_text(&rung.name(), &source);
+    assert!(!session.has_errors(), "{:?}", common::messages(session.diagnostics()));
+    let plan = search(&mut session, 0);
+    assert!(passes::reassign::jobs(session.kb(), &plan).is_none());
+}
+
 /// The number of steps of `plan` whose names start with `prefix`.
 fn count_steps(session: &Session, plan: &Plan, prefix: &str) -> usize {
     let no_vars = kbc::ir::hir::VarTable::default();

@@ -11,7 +11,9 @@
 //! - a *job* is what one unit does from the step that takes it (a step whose effects delete
 //!   the unit's resource fact, `available(a1)`) to the step that gives it back (one that adds
 //!   the fact again), with every step between them that names the unit: for std/blocks.pl,
-//!   the grip, the move and the release of one block;
+//!   the grip, the move and the release of one block. When no action changes the template's
+//!   facts (`resources(agent(_))` over the KB's `agent(a1).`), the unit's one-argument facts
+//!   that effects delete and add (`free(a1)`) take and give it back;
 //! - what each step waits for apart from its unit is the partial order without the orderings
 //!   that come from resource facts, plus each durative action's minimum duration;
 //! - list scheduling in simulated time then starts the steps in time order, and gives a free
@@ -80,6 +82,10 @@ const RULES: [Rule; 4] = [
 struct Template<'a> {
     term: &'a Term,
     position: usize,
+    /// Whether some action adds or deletes facts that match it. When none does (`agent(_)`,
+    /// with the KB's `agent(a1).` facts), a unit is taken and given back through the one-argument
+    /// facts of the unit that effects delete and add (`free(a1)`).
+    dynamic: bool,
 }
 
 /// A job: a unit's steps from taking it to giving it back, in plan order.
@@ -132,13 +138,22 @@ fn mentions(term: &Term, unit: &Term) -> bool {
     term == unit || term.args().iter().any(|a| mentions(a, unit))
 }
 
-/// The unit a ground fact is of, if it matches a resource template.
+/// The unit a ground fact is of, if it is a resource fact: one that matches a resource
+/// template that effects change, or, for a template they do not (`agent(_)`), a one-argument
+/// fact of one of its units (`free(a1)`).
 fn unit_of(templates: &[Template<'_>], units: &[(usize, Term)], fact: &Term) -> Option<usize> {
     templates.iter().enumerate().find_map(|(t, template)| {
-        if !unifiable(template.term, fact) {
-            return None;
-        }
-        let value = fact.args().get(template.position)?;
+        let value = if template.dynamic {
+            if !unifiable(template.term, fact) {
+                return None;
+            }
+            fact.args().get(template.position)?
+        } else {
+            match fact.args() {
+                [value] if fact.callable() != template.term.callable() => value,
+                _ => return None,
+            }
+        };
         units.iter().position(|(ut, term)| *ut == t && term == value)
     })
 }
@@ -194,13 +209,15 @@ pub fn jobs<'a>(kb: &'a Kb, plan: &Plan) -> Option<Jobs<'a>> {
         if vars.len() != 1 {
             return None;
         }
-        templates.push(Template { term: &resource.template.term, position: vars[0] });
+        let term = &resource.template.term;
+        let dynamic = kb.actions.iter().flat_map(|a| &a.effects).any(|e| unifiable(term, &e.literal.term));
+        templates.push(Template { term, position: vars[0], dynamic });
     }
     if templates.is_empty() {
         return None;
     }
-    // Each step's effects, and the units: the values of resource facts in the initial state
-    // and in effects.
+    // Each step's effects, and the units: the values of facts that match a template in the
+    // initial state, the KB's facts and effects.
     let effects: Vec<Vec<(EffectKind, Term)>> = plan
         .steps
         .iter()
@@ -211,7 +228,8 @@ pub fn jobs<'a>(kb: &'a Kb, plan: &Plan) -> Option<Jobs<'a>> {
         .collect();
     let init = kb.problems[plan.problem].init.iter().map(|l| &l.term);
     let mut units: Vec<(usize, Term)> = Vec::new();
-    for fact in init.chain(effects.iter().flatten().map(|(_, fact)| fact)) {
+    let kb_facts = kb.static_facts().map(|l| &l.term);
+    for fact in init.chain(kb_facts).chain(effects.iter().flatten().map(|(_, fact)| fact)) {
         for (t, template) in templates.iter().enumerate() {
             if unifiable(template.term, fact)
                 && let Some(value) = fact.args().get(template.position)
@@ -230,9 +248,12 @@ pub fn jobs<'a>(kb: &'a Kb, plan: &Plan) -> Option<Jobs<'a>> {
         let mut gives = Vec::new();
         for (kind, fact) in &effects[i] {
             if let Some(unit) = unit_of(&templates, &units, fact) {
-                match kind {
-                    EffectKind::Del => takes.push(unit),
-                    EffectKind::Add => gives.push(unit),
+                let list = match kind {
+                    EffectKind::Del => &mut takes,
+                    EffectKind::Add => &mut gives,
+                };
+                if !list.contains(&unit) {
+                    list.push(unit);
                 }
             }
         }
@@ -273,7 +294,7 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
         return None; // nothing to choose between
     }
     // Orderings, without those that come from resource facts.
-    let through_resource = |literal: &Term| templates.iter().any(|t| unifiable(t.term, literal));
+    let through_resource = |literal: &Term| unit_of(&templates, &units, literal).is_some();
     let snaps: Vec<Snap> = pop.steps.iter().map(|s| s.snap).collect();
     let mut preds: Vec<Vec<(usize, i64)>> = vec![Vec::new(); n];
     // A pair kept for a resource fact may have other reasons too (`release_end(a1, b1)` gives
