@@ -243,7 +243,10 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     assert_ne!(expanded(&[]), expanded(&["--lookahead"]));
     assert_eq!(kbc(&["bench", "--filter", "no_such_rung"]).status.code(), Some(2));
     // `--improve` reaches the plan: on this rung a restart finds a shorter makespan.
-    let makespan = |extra: &[&str]| row("build_b06_", extra)["makespan"].as_f64().expect("a makespan");
+    let makespan = |extra: &[&str]| {
+        let args = [&["--seed", "2"], extra].concat();
+        row("reverse_b05_", &args)["makespan"].as_f64().expect("a makespan")
+    };
     assert!(makespan(&["--improve", "1"]) < makespan(&[]));
     let refused = kbc(&["bench", "--filter", "build_b06_", "--improve", "0"]);
     assert_eq!(refused.status.code(), Some(2));
@@ -295,7 +298,7 @@ impl Drop for Rung {
 
 #[test]
 fn improving_keeps_the_shortest_reassigned_schedule() {
-    let rung = Rung::write("build_b06_a3_s1", "improve");
+    let rung = Rung::write("build_b04_a3_s1", "improve");
     let kb = rung.kb.as_str();
     // A budget of states rather than time ends the improvement the same way on any machine.
     let improve = ["plan", kb, "--schedule", "--improve", "600", "--max-states", "2000"];
@@ -330,7 +333,7 @@ fn replans_after_a_fault_are_reassigned_too() {
 fn reassigned_schedules_say_so_and_validate() {
     // (A rung whose plan is the first search's: where a second search with the lookahead is
     // kept, `--no-reassign`, which runs no second search, schedules another plan.)
-    let rung = Rung::write("reverse_b06_a3_s1", "reassign");
+    let rung = Rung::write("reverse_b08_a3_s1", "reassign");
     let kb = rung.kb.as_str();
     let reassigned = kbc(&["plan", kb, "--schedule"]);
     let kept = kbc(&["plan", kb, "--schedule", "--no-reassign"]);
@@ -922,7 +925,10 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     let improving = kbc(&["plan", "-v", "--improve", "60", "--max-states", "300", file]);
     assert_eq!(improving.status.code(), Some(0), "{}", stderr(&improving));
     let passes = verbose_passes(&stderr(&improving));
-    assert_eq!(passes.iter().filter(|p| *p == "search").count(), 1, "{passes:?}");
+    let searches = |passes: &[String]| passes.iter().filter(|p| *p == "search").count();
+    let default = verbose_passes(&stderr(&kbc(&["plan", "-v", file])));
+    assert_eq!(searches(&passes), searches(&default), "{passes:?}\n{default:?}");
+    assert_eq!(passes.iter().filter(|p| *p == "restarts").count(), 1, "{passes:?}");
     let text = stderr(&improving);
     let restarts = text.lines().find(|l| l.trim_start().starts_with("restarts ")).expect("a restarts line");
     assert!(restarts.contains(" restarts, makespan "), "{restarts}");
@@ -933,7 +939,7 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
 
 #[test]
 fn a_second_search_with_the_lookahead_is_kept_only_when_shorter() {
-    // reverse_b10_a4_s1 takes the plain search 300 expansions or more, so `kbc plan` also
+    // On reverse_b10_a4_s1 (a small problem: no lookahead by default) `kbc plan` also
     // searches with the lookahead; it kept that plan when written (28.022 against 34.028).
     let rung = Rung::write("reverse_b10_a4_s1", "second-search");
     let kb = rung.kb.as_str();
