@@ -499,7 +499,8 @@ pub struct Row {
     pub makespan: Option<(i64, i64)>,
     /// A lower bound on any plan's makespan (see [`LowerBound`]).
     pub lower_bound: Option<LowerBound>,
-    /// States expanded.
+    /// States expanded, by every search the plan ran (the second search with the lookahead
+    /// too, which may be the one whose plan was kept).
     pub expanded: u64,
     /// Wall-clock time of planning and scheduling, as `kbc plan` does them: the search (and
     /// the second one `Session::plan` may run), the temporal passes and `reassign` with its
@@ -575,7 +576,6 @@ pub fn run_with(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Opti
             return failed(why, stats.expanded, elapsed);
         }
     };
-    let stats = planned.stats.expect("searched");
     let length = planned.plan().steps.len();
     let result = check(&mut session, &planned);
     Row {
@@ -584,7 +584,7 @@ pub fn run_with(rung: &Rung, search: SearchKind, budget: Budget, max_depth: Opti
         makespan: result.as_ref().ok().copied(),
         result: result.map(|_| length),
         lower_bound,
-        expanded: stats.expanded,
+        expanded: session.states_expanded(0),
         elapsed,
     }
 }

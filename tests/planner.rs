@@ -1035,3 +1035,22 @@ fn checking_one_action_agrees_with_listing_every_applicable_instance() {
     // The check must have been asked both ways often (468 checks, 285 refused when written).
     assert!(agreed > 300 && refused > 100, "{agreed} checks, {refused} refused");
 }
+
+/// The ladder's `expanded` counts every search `kbc plan` runs for a rung: on a small problem,
+/// the plain search and the second one with the lookahead (whichever plan is kept), so a
+/// slow plain search is not hidden behind a kept lookahead plan.
+#[test]
+fn the_ladders_expansions_count_every_search_the_plan_ran() {
+    use kbc::session::{PlanSettings, Session};
+    let rung = Rung { family: Family::Reverse, blocks: 8, arms: 3, seed: 1 };
+    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
+    assert!(row.result.is_ok(), "{:?}", row.result);
+    let mut session = Session::from_text(&rung.name(), rung.source());
+    let plain =
+        PlanSettings { lookahead: Lookahead::Off, timeout: Some(Duration::from_secs(60)), ..Default::default() };
+    let first = session.search(0, &plain, &mut Silent).expect("a plan").stats.expanded;
+    let ahead = PlanSettings { lookahead: Lookahead::On, max_states: first, ..plain };
+    let second = session.search(0, &ahead, &mut Silent).map_or_else(|f| f.stats.expanded, |s| s.stats.expanded);
+    assert_eq!(row.expanded, first + second);
+    assert_eq!(session.states_expanded(0), first + second);
+}

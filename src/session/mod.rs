@@ -565,6 +565,16 @@ impl Session {
         })
     }
 
+    /// The states every search of `problem` so far expanded: the first, the second with the
+    /// lookahead ([`Session::plan`]) and `--improve`'s restarts, found plans or not.
+    pub fn states_expanded(&self, problem: usize) -> u64 {
+        let stats = |found: &SearchResult| match found {
+            Ok(searched) => searched.stats.expanded,
+            Err(failed) => failed.stats.expanded,
+        };
+        self.searches.iter().filter(|(p, _, _)| *p == problem).map(|(_, _, found)| stats(found)).sum()
+    }
+
     /// The search for plans of `problem` under `settings` (done once per problem and
     /// settings). While improving with `reassign`, plans are judged by the makespan they end
     /// up with after it.
