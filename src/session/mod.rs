@@ -591,7 +591,9 @@ impl Session {
         self.task(problem);
         let options = settings.options();
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
-        let task = self.tasks[problem].as_mut().expect("built above");
+        // A task of its own, as first built: the ids a search interns (constants, facts) order
+        // its states' facts and so its ties, and must not depend on the searches before it.
+        let task = &mut crate::passes::task::build(kb, problem);
         let mut scorer = ReassignedMakespan { kb, interner, program: &program, epsilon: settings.epsilon };
         let scorer = settings.scored().then_some(&mut scorer as &mut dyn planner::Score);
         let outcome = timing::time(
