@@ -72,8 +72,9 @@ pub struct PopStep {
     pub conditions: Vec<Condition>,
 }
 
-/// Why one step must come before another.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Why one step must come before another. (Ordered only so that lists of reasons sort
+/// deterministically.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Reason {
     /// `before` is the last achiever of condition `condition` of `after`.
     Achiever {

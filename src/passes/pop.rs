@@ -284,17 +284,8 @@ fn sort_orderings(pop: &mut Pop) {
             _ => pop.orderings.push(ordering),
         }
     }
-    pop.other_reasons.sort_by_key(|o| (o.after, o.before, rank(&o.reason), reason_key(&o.reason)));
+    pop.other_reasons.sort_by_key(|o| (o.after, o.before, o.reason));
     pop.other_reasons.dedup();
-}
-
-/// A total order among reasons of one rank, so that the lists are deterministic.
-fn reason_key(reason: &Reason) -> (usize, usize) {
-    match *reason {
-        Reason::Achiever { condition } => (0, condition),
-        Reason::Threat { consumer, condition } => (consumer, condition),
-        Reason::StartEnd | Reason::Refinement | Reason::SameUnit => (0, 0),
-    }
 }
 
 /// Values for the goal's variables under which every goal literal is a fact of `facts`.

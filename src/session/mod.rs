@@ -593,6 +593,7 @@ impl Session {
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
         // A task of its own, as first built: the ids a search interns (constants, facts) order
         // its states' facts and so its ties, and must not depend on the searches before it.
+        // (The session's task, built above once and verified, serves the passes after it.)
         let task = &mut crate::passes::task::build(kb, problem);
         let mut scorer = ReassignedMakespan { kb, interner, program: &program, epsilon: settings.epsilon };
         let scorer = settings.scored().then_some(&mut scorer as &mut dyn planner::Score);
