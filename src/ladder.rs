@@ -280,8 +280,13 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   must move too needs only one: its move can lift it before the support is gripped and
 ///   put it down after the support is placed.) Blocks that must leave before any goal tower
 ///   can start and cannot all stay in the arms are put down on their way, and move again
-///   (`aside`, see `Rung::put_aside`). The arms share the sum: `ceil(sum / arms)`.
-/// - `block`: one block's cycles run one after another, so the longest block's work.
+///   (`aside`, see `Rung::put_aside`); or, counted instead where it is more: a block above
+///   another both at the start and in the goal, where the one below moves, is lifted before
+///   that one's last cycle and put in its goal place after it, so it is either held through
+///   that cycle or moves twice (`waiting`, see `Rung::waiting`). The arms share the sum:
+///   `ceil(sum / arms)`.
+/// - `block`: one block's cycles run one after another, so the longest block's work (with
+///   what `waiting` proves of it).
 /// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
 ///   every block above it needs at least one more release after that.
@@ -298,6 +303,10 @@ pub struct LowerBound {
     /// The least work, included in `work`, that blocks put down on their way add: those that
     /// must leave before any goal tower can start and cannot all stay in the arms.
     pub aside: i64,
+    /// The least work that blocks lifted before a block below them moves add (held in the air
+    /// through its move, or put down and moved again); `work` counts the larger of this and
+    /// `aside`.
+    pub waiting: i64,
 }
 
 impl Rung {
@@ -329,7 +338,7 @@ impl Rung {
             let arms = self.arms.max(1) as i64;
             let work = (works.iter().sum::<i64>() + arms - 1) / arms;
             let block = works.iter().copied().max().unwrap_or(0);
-            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0 };
+            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0, waiting: 0 };
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
@@ -404,22 +413,39 @@ impl Rung {
         }
         let total: i64 = works.values().sum();
         let arms = self.arms.max(1) as i64;
-        let aside = self.put_aside(&init, &goal, &works, |b, start, target| {
-            let (s, t) = (cells.iter().position(|&c| c == start), cells.iter().position(|&c| c == target));
-            let (Some(s), Some(t)) = (s, t) else { return 0 };
-            // The least work of reaching the target from a first move elsewhere.
-            let via = (0..n)
+        // The least work of reaching the target from a first move elsewhere than the target
+        // (two moves or more; None when there is no other cell).
+        let via = |start: (usize, usize), target: (usize, usize)| -> Option<i64> {
+            let (s, t) = (cells.iter().position(|&c| c == start)?, cells.iter().position(|&c| c == target)?);
+            (0..n)
                 .filter(|&p| p != s)
                 .map(|p| {
                     let rest = if p == t { round_trip(target) } else { path[p * n + t] };
                     cycle[s * n + p].saturating_add(rest)
                 })
                 .min()
-                .unwrap_or(i64::MAX);
-            if via == i64::MAX { 0 } else { (via - works[&b]).max(0) }
+                .filter(|&w| w != i64::MAX)
+        };
+        let aside = self.put_aside(&init, &goal, &works, |b, start, target| {
+            via(start, target).map_or(0, |via| (via - works[&b]).max(0))
         });
-        let work = (total + aside + arms - 1) / arms;
-        let block = works.values().copied().max().unwrap_or(0);
+        // The least duration of a block's last cycle onto its goal cell, from any other cell.
+        let last_cycle = |target: (usize, usize)| -> i64 {
+            let t = cells.iter().position(|&c| c == target).expect("a cell of the table");
+            (0..n).filter(|&s| s != t).map(|s| cycle[s * n + t]).min().unwrap_or(0)
+        };
+        let (waiting, occupied) = self.waiting(&init, &goal, &works, self.arms, |b, below, k| {
+            let (start, target) = (from[&b].0, to[&b].0);
+            let twice = via(start, target).unwrap_or(i64::MAX);
+            if start == target {
+                return (None, twice.min(round_trip(start)));
+            }
+            let once = moving(session, start, target) - grip - release;
+            let held = grip + once.max(last_cycle(to[&below].0) + k * release) + release;
+            (Some(held), twice)
+        });
+        let work = (total + aside.max(waiting) + arms - 1) / arms;
+        let block = works.iter().map(|(b, w)| occupied.get(b).copied().unwrap_or(*w).max(*w)).max().unwrap_or(0);
         let mut chain = 0;
         for (_, tower) in &goal {
             if let Some(first) = tower.iter().position(|b| works[b] > 0) {
@@ -427,7 +453,75 @@ impl Rung {
                 chain = chain.max(works[&tower[first]] + above * release);
             }
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting }
+    }
+
+    /// The least work that blocks which must be lifted before a block below them moves add,
+    /// beyond each block's own least work (`works`), and each such block's least work alone.
+    ///
+    /// Let b stand above g at the start and above g in its goal tower, with g moving at least
+    /// once, and k blocks between them in the goal tower. Everything above g is lifted before
+    /// g is gripped (a grip wants `clear/1`, which only lifting the block on top gives), so b's
+    /// first lift comes before the grip that starts g's last cycle. b's last move ends on a
+    /// block that is in its goal place for good, so after that block's release (the only
+    /// thing that gives `clear/1` back after its grip), which comes after the release of the
+    /// block below it, and so on down to g's last release: k releases after g's last cycle.
+    /// So b either moves twice or more (`twice`: at least the least work of reaching its goal
+    /// from a first move elsewhere), or moves once, held by one arm from its grip to its
+    /// release, through g's whole last cycle and the k releases (`held`). The arms that hold
+    /// blocks through g's last cycle are not g's, so at most `arms - 1` blocks of each g are
+    /// held; the rest move twice. A block whose goal is on its own cell cannot move once.
+    ///
+    /// `occupancy(b, g, k)` gives b's `(held, twice)`, `held` None when b cannot move once.
+    /// Every b is counted with the lowest such g, so in one group only.
+    fn waiting(
+        &self,
+        init: &[Tower],
+        goal: &[Tower],
+        works: &std::collections::BTreeMap<usize, i64>,
+        arms: usize,
+        mut occupancy: impl FnMut(usize, usize, i64) -> (Option<i64>, i64),
+    ) -> (i64, std::collections::BTreeMap<usize, i64>) {
+        let start_of = |b: usize| -> (&Vec<usize>, usize) {
+            let (_, tower) = init.iter().find(|(_, t)| t.contains(&b)).expect("every block starts somewhere");
+            (tower, tower.iter().position(|&x| x == b).expect("b is in its tower"))
+        };
+        let mut extra = 0;
+        let mut occupied = std::collections::BTreeMap::new();
+        // For each g, what holding each of its blocks costs more than moving it twice.
+        let mut groups: std::collections::BTreeMap<usize, Vec<(i64, i64)>> = std::collections::BTreeMap::new();
+        for (_, tower) in goal {
+            for (level, &b) in tower.iter().enumerate() {
+                let (start, start_level) = start_of(b);
+                let below = tower[..level].iter().position(|g| works[g] > 0 && start[..start_level].contains(g));
+                let Some(g_level) = below else { continue };
+                let g = tower[g_level];
+                let k = (level - g_level - 1) as i64;
+                let (held, twice) = occupancy(b, g, k);
+                let own = works[&b];
+                match held {
+                    None => {
+                        extra += (twice - own).max(0);
+                        occupied.insert(b, twice);
+                    }
+                    Some(held) => {
+                        groups.entry(g).or_default().push(((held - own).max(0), (twice - own).max(0)));
+                        occupied.insert(b, held.min(twice));
+                    }
+                }
+            }
+        }
+        for members in groups.values() {
+            extra += members.iter().map(|&(held, twice)| held.min(twice)).sum::<i64>();
+            // Those cheaper held than moved twice, beyond the arms that can hold them, move
+            // twice: the ones that lose least by it.
+            let mut losses: Vec<i64> =
+                members.iter().filter(|(held, twice)| held < twice).map(|(held, twice)| twice - held).collect();
+            losses.sort_unstable();
+            let down = losses.len().saturating_sub(arms.saturating_sub(1));
+            extra += losses[..down].iter().sum::<i64>();
+        }
+        (extra, occupied)
     }
 
     /// The least work that blocks put down before their goal places add, beyond each block's
