@@ -689,6 +689,55 @@ fn relocating_keeps_the_plans_places_when_relocations_keep_conflicting() {
     );
 }
 
+#[test]
+fn relocating_a_block_aside_counts_its_way_on_from_there() {
+    // b stands on a at (3,1) and both go to (5,1): b is put aside while a moves. The plan
+    // puts it on (2,1); (4,1) is as near, and on the way: the relocation takes the cell whose
+    // move there and move on from there cost least together, not the first of the nearest.
+    let mut cells: Vec<String> = (1..=5).flat_map(|x| (1..=2).map(move |y| format!("cell({x}, {y}).\n"))).collect();
+    cells.push(
+        "aside :- go(\n  [available(a1), ontable(a, 3, 1), on(b, a, 3, 1), clear(b)],\n  \
+         [available(a1), ontable(a, 5, 1), on(b, a, 5, 1), clear(b)]\n).\n"
+            .to_string(),
+    );
+    let mut session = Session::from_text("aside.pl", cells.concat());
+    let steps = [
+        "grip_start(a1, b)",
+        "grip_end(a1, b)",
+        "move_block_start(a1, b, 3, 1, 2, 1)",
+        "move_block_end(a1, b, 3, 1, 2, 1)",
+        "release_start(a1, b)",
+        "release_end(a1, b)",
+        "grip_start(a1, a)",
+        "grip_end(a1, a)",
+        "move_block_start(a1, a, 3, 1, 5, 1)",
+        "move_block_end(a1, a, 3, 1, 5, 1)",
+        "release_start(a1, a)",
+        "release_end(a1, a)",
+        "grip_start(a1, b)",
+        "grip_end(a1, b)",
+        "move_block_start(a1, b, 2, 1, 5, 1)",
+        "move_block_end(a1, b, 2, 1, 5, 1)",
+        "release_start(a1, b)",
+        "release_end(a1, b)",
+    ];
+    let text: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
+    let file = session.add_text("aside.plan", text);
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(0, &steps);
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    let plan = verdict.plan;
+    let before = timed(&mut session, &plan).schedule.makespan;
+    let searched = timed(&mut session, &plan);
+    let (relocated, kept) = session.relocate(plan.clone(), searched);
+    let no_vars = kbc::ir::hir::VarTable::default();
+    let names: Vec<String> =
+        relocated.steps.iter().map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars)).collect();
+    assert!(names.contains(&"move_block_start(a1, b, 3, 1, 4, 1)".to_string()), "{names:#?}");
+    assert!(names.contains(&"move_block_start(a1, b, 4, 1, 5, 1)".to_string()), "{names:#?}");
+    assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
+}
+
 /// How long the moves of `timed` hold their blocks beyond their least durations, in all.
 fn move_waits(session: &Session, timed: &Timed) -> i64 {
     let no_vars = kbc::ir::hir::VarTable::default();

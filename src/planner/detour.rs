@@ -161,7 +161,8 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// other positions, by a later start of the same action that also names what it moves (the
 /// move that takes the same block off that cell again). Replaying the plan in order, each
 /// such start is taken as the instance with the same other arguments whose least duration
-/// (`cost`) is least (its own values first among equals, but costing also the wait `waits`
+/// (`cost`), with that of the later start named with its values (the move on from there), is
+/// least (its own values first among equals, but costing also the wait `waits`
 /// gives the start in the plan's schedule) among those whose chosen values no start running
 /// then has taken and whose end could apply at once (its own values need not: they may
 /// wait, as in the plan). (Without the wait, a block that the search sent onto a
@@ -324,7 +325,7 @@ impl Rewriter<'_, '_> {
                         && banned.get(&k).is_none_or(|b| !b.iter().any(|v| v == values));
                     free.then_some(if values == own { wait } else { 0 })
                 };
-                let Some((step, old, new)) = self.cheapest(task, path, k, &state, free, cost) else {
+                let Some((step, old, new)) = self.cheapest(task, path, (k, leaves), &state, free, cost) else {
                     return Err(blame(&active, &self.names[k]));
                 };
                 state = successors::apply(task, &state, &step);
@@ -400,20 +401,29 @@ impl Rewriter<'_, '_> {
     /// The least costly way to take relocatable start `k` in `state`: the instance of its
     /// action with the same other arguments and any chosen values `free` accepts (given the
     /// family, it answers what they cost beyond the least duration; the plan's own among
-    /// them, first among equals) whose end could apply at once (the plan's own values need
-    /// not); with the plan's chosen values and the ones taken.
+    /// them, first among equals), costed with the start `leaves` that leaves from there named
+    /// with them, whose end could apply at once (the plan's own values need not); with the
+    /// plan's chosen values and the ones taken.
     fn cheapest(
         &mut self,
         task: &mut Task,
         path: &[Applicable],
-        k: usize,
+        (k, leaves): (usize, usize),
         state: &State,
         free: impl Fn(usize, &[Term]) -> Option<i64>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
         let old = self.chosen_values(task, path, k);
         let family = self.families[path[k].schema][0];
-        let ranked = self.alternatives(task, path, k, state, |values| free(family, values), cost);
+        // The start that leaves from there, named with the values instead of the plan's.
+        let (action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
+        let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
+            let extra = free(family, values)?;
+            let (functor, _) = next.callable()?;
+            let args = substituted(next.args(), &old, values).into_iter().next()?;
+            Some(extra.saturating_add(cost(action, &Term::Compound(functor, args.into()))))
+        };
+        let ranked = self.alternatives(task, path, k, state, onward, cost);
         let end = self.end_index[k].map(|e| path[e].clone())?;
         for (alternative, values) in ranked {
             // (The plan's own values may wait for their end, as they did in the plan.)
@@ -862,7 +872,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             path,
             h.start,
             state,
-            |v| (*v != old[..] && !taken.iter().any(|t| t == v)).then_some(0),
+            |v, _| (*v != old[..] && !taken.iter().any(|t| t == v)).then_some(0),
             cost,
         );
         let end = &path[h.end];
@@ -886,16 +896,16 @@ impl<'s, 'p> Rewriter<'s, 'p> {
 
     /// The applicable instances of start `k`'s action in `state` named as it is but at its
     /// chosen positions, whose chosen values `keep` accepts (it answers what they cost
-    /// beyond the least duration), with those values: at most [`ALTERNATIVES`], cheapest
-    /// first by `cost` plus that (the plan's own values first among equals, then in the
-    /// order found).
+    /// beyond the least duration, with `cost` at hand), with those values: at most
+    /// [`ALTERNATIVES`], cheapest first by `cost` plus that (the plan's own values first
+    /// among equals, then in the order found).
     fn alternatives(
         &mut self,
         task: &mut Task,
         path: &[Applicable],
         k: usize,
         state: &State,
-        keep: impl Fn(&[Term]) -> Option<i64>,
+        keep: impl Fn(&[Term], &mut dyn FnMut(usize, &Term) -> i64) -> Option<i64>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Vec<(Applicable, Vec<Term>)> {
         let schema = path[k].schema;
@@ -912,7 +922,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             .filter_map(|(i, a)| {
                 let name = successors::action_name(task, &a);
                 let values: Vec<Term> = positions.iter().map(|&p| name.args()[p].clone()).collect();
-                let extra = keep(&values)?;
+                let extra = keep(&values, cost)?;
                 let cost = cost(task.schemas[a.schema].action, &name).saturating_add(extra);
                 Some((cost, values != old, i, a, values))
             })
