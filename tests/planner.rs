@@ -178,6 +178,38 @@ fn by_default_the_lookahead_is_on_for_large_problems_only() {
 }
 
 #[test]
+fn by_default_a_plain_search_on_a_plateau_turns_the_lookahead_on() {
+    // reverse_b20_a4_s3 starts below the estimate that turns the lookahead on, and its plain
+    // search expands thousands of states (2697 when written); by default the lookahead comes
+    // on after `Lookahead::AUTO_STATES` expansions and the plan follows soon after.
+    let rung = Rung { family: Family::Reverse, blocks: 20, arms: 4, seed: 3 };
+    let frontend = from_text("rung.pl", rung.source());
+    let run = |mode: Lookahead| {
+        let mut task = passes::task::build(&frontend.kb, 0);
+        let options = Options { budget: budget(60), lookahead: mode, ..Options::default() };
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+        let plan = outcome.result.unwrap_or_else(|failure| panic!("{mode:?}: no plan: {failure:?}"));
+        assert_valid(&frontend, 0, &plan);
+        outcome.stats
+    };
+    let plain = run(Lookahead::Off);
+    assert!(plain.expanded > 2 * Lookahead::AUTO_STATES, "the plain search took only {}", plain.expanded);
+    assert!(!plain.lookahead && plain.lookahead_from == 0);
+    let auto = run(Lookahead::Auto);
+    assert!(auto.lookahead, "the lookahead never came on");
+    assert_eq!(auto.lookahead_from, Lookahead::AUTO_STATES);
+    assert!(auto.looked_ahead > 0, "no state reached by the lookahead");
+    assert!(auto.expanded < plain.expanded, "{} expansions, {} without", auto.expanded, plain.expanded);
+    // A search that finds its plan sooner never turns it on (build_b10_a4_s1: 141 expansions).
+    let small = Rung { family: Family::Build, blocks: 10, arms: 4, seed: 1 };
+    let frontend = from_text("rung.pl", small.source());
+    let mut task = passes::task::build(&frontend.kb, 0);
+    let options = Options { budget: budget(60), ..Options::default() };
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    assert!(!outcome.stats.lookahead && outcome.stats.expanded < Lookahead::AUTO_STATES);
+}
+
+#[test]
 fn plans_found_with_and_without_the_lookahead_validate() {
     // The lookahead puts states on the open list that are several steps past the one
     // expanded; the validator replays every plan independently, whichever way it was found.

@@ -77,8 +77,9 @@ pub(super) struct PlanningArgs {
     /// the heuristic search also applies the actions of its relaxed plan as far as they apply
     /// and adds the state reached. Much faster on large problems; on some smaller ones the
     /// makespans get longer. `auto` turns it on when the initial state's estimate (landmarks
-    /// plus h_FF, `-v` says whether it was on) is 400 or more. `--lookahead` alone means `on`;
-    /// give a value as `--lookahead=off`.
+    /// plus h_FF, `-v` says whether it was on) is 400 or more, and once a search without it
+    /// has expanded 1000 states without a plan. `--lookahead` alone means `on`; give a value
+    /// as `--lookahead=off`.
     #[arg(long, value_enum, value_name = "WHEN", num_args = 0..=1, require_equals = true, default_value_t = LookaheadArg::Auto,
           default_missing_value = "on")]
     pub(super) lookahead: LookaheadArg,
@@ -106,7 +107,8 @@ pub(super) fn parse_epsilon(text: &str) -> Result<i64, String> {
 /// When the heuristic search follows relaxed plans ahead (`--lookahead`).
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(super) enum LookaheadArg {
-    /// On large problems (an initial estimate of 400 or more).
+    /// On large problems (an initial estimate of 400 or more), and after 1000 expansions
+    /// without a plan.
     Auto,
     /// Always.
     On,

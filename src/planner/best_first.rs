@@ -52,7 +52,9 @@
 //! search finds more moves in parallel), so by default ([`Lookahead::Auto`]) it is on only
 //! for problems whose initial estimate says they are large, where the plain search needs
 //! thousands of evaluations of milliseconds each and the lookahead is faster and its
-//! makespans shorter on every family (50 blocks and more on the ladder). Restricting the old
+//! makespans shorter on every family (50 blocks and more on the ladder); and in a plain
+//! search that has found no plan in [`Lookahead::AUTO_STATES`] expansions, from there on.
+//! Restricting the old
 //! one (waiting starts skipped, the chain cut where an arm would wait, only after a plateau of
 //! 10-100 expansions) had cost speed without giving the reverse rungs their makespans back.
 //!
@@ -767,11 +769,20 @@ pub fn search(
         bytes += accepted.len() * 8;
         nodes[id as usize].accepted = Some(accepted);
         let Some(h_ff) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
-        let progressed = h_lm + h_ff < best_h;
+        let mut progressed = h_lm + h_ff < best_h;
         if !std::mem::replace(&mut decided, true) {
             lookahead = mode.wanted(h_lm + h_ff);
             stats.lookahead = lookahead;
             relaxation.keep_relaxed_plans(lookahead);
+        }
+        // A plain search that has not found a plan in so many expansions is on a plateau
+        // the lookahead gets off: on from here, starting with this state.
+        if !lookahead && best.is_none() && mode.switches_on(stats.expanded) {
+            lookahead = true;
+            stats.lookahead = true;
+            stats.lookahead_from = stats.expanded;
+            relaxation.keep_relaxed_plans(true);
+            progressed = true;
         }
         best_h = best_h.min(h_lm + h_ff);
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {

@@ -731,9 +731,10 @@ impl Session {
     }
 
     /// `planned`, or the plan of a second heuristic search that follows relaxed plans ahead
-    /// when its schedule is shorter. It is run wherever the lookahead was left off by default
-    /// (`Lookahead::Auto` on a small problem), with no more expansions than the plain search
-    /// took to its first plan (so the same input always gives the same plan). (It once ran
+    /// when its schedule is shorter. It is run wherever the first search began without the
+    /// lookahead by default (`Lookahead::Auto` on a small problem, even if it turned the
+    /// lookahead on later), with no more expansions than the first search took to its first
+    /// plan (so the same input always gives the same plan). (It once ran
     /// only after 300 expansions or more; run always, it is shorter on 30 more of the ladder's
     /// 126 rungs of up to 30 blocks, seeds 1-3, 8 of the 12 grid rungs among them, and takes
     /// up to about 0.8 s more on a grid rung, most of it grounding the relaxation again.) With
@@ -751,7 +752,10 @@ impl Session {
         let Some(stats) = planned.stats else { return planned };
         // (While improving, the expansions the search took to its first plan, as without.)
         let expanded = if settings.improve.is_some() { stats.first_expanded } else { stats.expanded };
-        if !settings.reassigns() || settings.lookahead != planner::Lookahead::Auto || stats.lookahead {
+        // (A search that turned the lookahead on later began plain: the second search still
+        // runs.)
+        let from_start = stats.lookahead && stats.lookahead_from == 0;
+        if !settings.reassigns() || settings.lookahead != planner::Lookahead::Auto || from_start {
             return planned;
         }
         let ahead =
@@ -761,8 +765,13 @@ impl Session {
         std::mem::swap(&mut quiet, &mut self.diagnostics);
         let second = match self.search(problem, &ahead, progress) {
             Ok(searched) => {
+                let origin = match stats.lookahead_from {
+                    0 => "heuristic search with lookahead, shorter than without".to_string(),
+                    from => format!(
+                        "heuristic search with lookahead from the start, shorter than with it on after {from} expansions"
+                    ),
+                };
                 let (plans, stats) = (searched.plans.clone(), Some(searched.stats));
-                let origin = "heuristic search with lookahead, shorter than without".to_string();
                 self.schedule_best(ground, plans, origin, stats, &ahead).ok()
             }
             Err(_) => None,
@@ -1389,14 +1398,16 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
 pub fn stats_line(stats: &Stats) -> String {
     // What the evaluations count apart: states the lookahead reached (said whenever it was
     // on), and states dropped unevaluated because nothing applies in them.
-    let notes: Vec<String> = [
-        (stats.looked_ahead, "reached by lookahead", stats.lookahead),
-        (stats.stuck, "more stuck: no action applies", false),
-    ]
-    .into_iter()
-    .filter(|&(n, _, always)| n > 0 || always)
-    .map(|(n, what, _)| format!("{n} {what}"))
-    .collect();
+    let by = match stats.lookahead_from {
+        0 => "reached by lookahead".to_string(),
+        from => format!("reached by lookahead, on after {from} expansions"),
+    };
+    let notes: Vec<String> =
+        [(stats.looked_ahead, by.as_str(), stats.lookahead), (stats.stuck, "more stuck: no action applies", false)]
+            .into_iter()
+            .filter(|&(n, _, always)| n > 0 || always)
+            .map(|(n, what, _)| format!("{n} {what}"))
+            .collect();
     format!(
         "expanded {} {}, generated {}{}, evaluated {}{}; {:.3} s; states stored {:.1} MB{}",
         stats.expanded,
