@@ -434,7 +434,7 @@ impl Rung {
             let t = cells.iter().position(|&c| c == target).expect("a cell of the table");
             (0..n).filter(|&s| s != t).map(|s| cycle[s * n + t]).min().unwrap_or(0)
         };
-        let (waiting, occupied) = self.waiting(&init, &goal, &works, self.arms, |b, below, k| {
+        let (waiting, occupied) = self.waiting(&init, &goal, &works, |b, below, k| {
             let (start, target) = (from[&b].0, to[&b].0);
             let twice = via(start, target).unwrap_or(i64::MAX);
             if start == target {
@@ -479,7 +479,6 @@ impl Rung {
         init: &[Tower],
         goal: &[Tower],
         works: &std::collections::BTreeMap<usize, i64>,
-        arms: usize,
         mut occupancy: impl FnMut(usize, usize, i64) -> (Option<i64>, i64),
     ) -> (i64, std::collections::BTreeMap<usize, i64>) {
         let start_of = |b: usize| -> (&Vec<usize>, usize) {
@@ -518,7 +517,7 @@ impl Rung {
             let mut losses: Vec<i64> =
                 members.iter().filter(|(held, twice)| held < twice).map(|(held, twice)| twice - held).collect();
             losses.sort_unstable();
-            let down = losses.len().saturating_sub(arms.saturating_sub(1));
+            let down = losses.len().saturating_sub(self.arms.saturating_sub(1));
             extra += losses[..down].iter().sum::<i64>();
         }
         (extra, occupied)

@@ -769,20 +769,20 @@ pub fn search(
         bytes += accepted.len() * 8;
         nodes[id as usize].accepted = Some(accepted);
         let Some(h_ff) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
-        let mut progressed = h_lm + h_ff < best_h;
+        let progressed = h_lm + h_ff < best_h;
         if !std::mem::replace(&mut decided, true) {
             lookahead = mode.wanted(h_lm + h_ff);
             stats.lookahead = lookahead;
             relaxation.keep_relaxed_plans(lookahead);
         }
         // A plain search that has not found a plan in so many expansions is on a plateau
-        // the lookahead gets off: on from here, starting with this state.
+        // the lookahead gets off: on from here. (This state's estimate has no relaxed plan
+        // kept; the lookahead follows those of the better states evaluated from now on.)
         if !lookahead && best.is_none() && mode.switches_on(stats.expanded) {
             lookahead = true;
             stats.lookahead = true;
             stats.lookahead_from = stats.expanded;
             relaxation.keep_relaxed_plans(true);
-            progressed = true;
         }
         best_h = best_h.min(h_lm + h_ff);
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {

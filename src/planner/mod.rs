@@ -66,8 +66,9 @@ impl Lookahead {
     /// search that has found no plan yet. Measured on the ladder's 20-30 block reverse rungs,
     /// seeds 1-3 (the only rungs of up to 30 blocks whose plain search expands more than
     /// about 2000 states): their plain searches took 2000-7941 expansions and up to 4.6 s;
-    /// turned on after 1000, 1020-2092 expansions and at most 1.1 s for the whole run, and
-    /// with the second search the same sum of makespans (426) over the nine.
+    /// turned on after 1000, 1020-2092 expansions and at most 1.2 s for the whole run
+    /// (`kbc bench`), and with the second search the same sum of makespans (426) over the
+    /// nine.
     pub const AUTO_STATES: u64 = 1000;
 
     /// Whether a plain search turns the lookahead on, after `expanded` expansions without a
