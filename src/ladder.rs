@@ -283,10 +283,20 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   (`aside`, see `Rung::put_aside`); or, counted instead where it is more: a block above
 ///   another both at the start and in the goal, where the one below moves, is lifted before
 ///   that one's last cycle and put in its goal place after it, so it is either held through
-///   that cycle or moves twice (`waiting`, see `Rung::waiting`). The arms share the sum:
-///   `ceil(sum / arms)`.
-/// - `block`: one block's cycles run one after another, so the longest block's work (with
-///   what `waiting` proves of it).
+///   that cycle or moves twice (`waiting`, see `Rung::waiting`). The arms share the sum, and
+///   more (`idle`): an arm is idle before its first grip and after its last release. A block
+///   with k blocks above it at the start is gripped no earlier than k grips after the start
+///   (each one above must be gripped and lifted first, one after another); one with k blocks
+///   above it in its goal tower is released for the last time k releases before the end at
+///   the latest (each one above is put on the one below only once that one is released).
+///   Each arm's first cycle is a block's (a second arm's first cycle of the same block comes
+///   a whole cycle later at least), and so is its last; so the u arms that work are idle at
+///   least the u least of those times at either end. The makespan is at least
+///   `ceil((sum + idle) / u)`, the least of it over every u from 1 to the arms (the others
+///   idle throughout).
+/// - `block`: one block's cycles run one after another (with what `waiting` proves of them),
+///   after its first grip can start and before the blocks above it in its goal tower are
+///   placed: the longest of these.
 /// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
 ///   every block above it needs at least one more release after that.
@@ -294,9 +304,9 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 pub struct LowerBound {
     /// The bound: the largest of the three.
     pub makespan: i64,
-    /// The total minimal work divided among the arms.
+    /// The total minimal work and idle time divided among the arms.
     pub work: i64,
-    /// The most minimal work of one block.
+    /// The most minimal work of one block, with the grips before it and the releases after it.
     pub block: i64,
     /// The longest chain a goal tower forces.
     pub chain: i64,
@@ -307,6 +317,9 @@ pub struct LowerBound {
     /// through its move, or put down and moved again); `work` counts the larger of this and
     /// `aside`.
     pub waiting: i64,
+    /// The least time, included in `work`, the arms spend idle before their first grip and
+    /// after their last release, when every arm works.
+    pub idle: i64,
 }
 
 impl Rung {
@@ -338,7 +351,7 @@ impl Rung {
             let arms = self.arms.max(1) as i64;
             let work = (works.iter().sum::<i64>() + arms - 1) / arms;
             let block = works.iter().copied().max().unwrap_or(0);
-            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0, waiting: 0 };
+            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0, waiting: 0, idle: 0 };
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
@@ -412,7 +425,6 @@ impl Rung {
             works.insert(b, work);
         }
         let total: i64 = works.values().sum();
-        let arms = self.arms.max(1) as i64;
         // The least work of reaching the target from a first move elsewhere than the target
         // (two moves or more; None when there is no other cell).
         let via = |start: (usize, usize), target: (usize, usize)| -> Option<i64> {
@@ -444,8 +456,40 @@ impl Rung {
             let held = grip + once.max(last_cycle(to[&below].0) + k * release) + release;
             (Some(held), twice)
         });
-        let work = (total + aside.max(waiting) + arms - 1) / arms;
-        let block = works.iter().map(|(b, w)| occupied.get(b).copied().unwrap_or(*w).max(*w)).max().unwrap_or(0);
+        // Idle at the ends: how long each block waits at least before its first grip (one
+        // grip per block above it at the start) and is done at least before the end (one
+        // release per block above it in its goal tower).
+        let least_cycle = (0..n)
+            .flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| cycle[i * n + j])
+            .min();
+        let levels = |towers: &[Tower], unit: i64| -> std::collections::BTreeMap<usize, i64> {
+            towers
+                .iter()
+                .flat_map(|(_, t)| t.iter().enumerate().map(move |(l, &b)| (b, (t.len() - 1 - l) as i64 * unit)))
+                .collect()
+        };
+        let (before, after) = (levels(&init, grip), levels(&goal, release));
+        let firsts = Self::least_idle(before.values().copied(), least_cycle.unwrap_or(0), self.arms);
+        let lasts = Self::least_idle(after.values().copied(), least_cycle.unwrap_or(0), self.arms);
+        let idle = firsts.iter().chain(&lasts).sum();
+        // With u arms at work (the others idle throughout), u * makespan covers the work and
+        // the u least idle times at either end; the least over u.
+        let work = (1..=self.arms.max(1))
+            .map(|u| {
+                let idle: i64 = firsts[..u].iter().chain(&lasts[..u]).sum();
+                (total + aside.max(waiting) + idle + u as i64 - 1) / u as i64
+            })
+            .min()
+            .unwrap_or(0);
+        // One block's cycles, after its first grip can start and before the blocks above it
+        // in its goal tower are placed.
+        let block = works
+            .iter()
+            .filter(|(_, w)| **w > 0)
+            .map(|(b, w)| before[b] + occupied.get(b).copied().unwrap_or(*w).max(*w) + after[b])
+            .max()
+            .unwrap_or(0);
         let mut chain = 0;
         for (_, tower) in &goal {
             if let Some(first) = tower.iter().position(|b| works[b] > 0) {
@@ -453,7 +497,21 @@ impl Rung {
                 chain = chain.max(works[&tower[first]] + above * release);
             }
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting, idle }
+    }
+
+    /// The `arms` least of the times `offsets` (one per block), each also repeated `cycle`
+    /// later, again and again: how long the arms wait at least before their first cycles (or
+    /// after their last), when each arm's first (last) cycle is one block's and two arms'
+    /// first (last) cycles of the same block are a whole cycle apart. Padded with zeros to
+    /// `arms` when there are fewer blocks, as if an arm started at once.
+    fn least_idle(offsets: impl Iterator<Item = i64>, cycle: i64, arms: usize) -> Vec<i64> {
+        let mut all: Vec<i64> =
+            offsets.flat_map(|o| (0..arms as i64).map(move |r| o.saturating_add(r.saturating_mul(cycle)))).collect();
+        all.sort_unstable();
+        all.resize(arms.max(all.len()), 0);
+        all.truncate(arms);
+        all
     }
 
     /// The least work that blocks which must be lifted before a block below them moves add,

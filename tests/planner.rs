@@ -279,6 +279,24 @@ fn the_makespan_lower_bound_holds_for_every_plan_found() {
 }
 
 #[test]
+fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
+    // reverse_b04_a3_s1: one tower of four blocks reversed on its cell by three arms. Only its
+    // top block can be gripped at first, the next one a grip later, the third two grips later;
+    // in the goal tower the last release is the top block's, the one below it a release
+    // earlier at the latest, and so on. So the arms are idle at least 0 + 1 + 2 grips at the
+    // start and 0 + 1 + 2 releases at the end (one unit each in std/blocks.pl), and the work
+    // (each block off its cell and back, 8 units: 32 in all) is shared out with them.
+    let rung = Rung { family: Family::Reverse, blocks: 4, arms: 3, seed: 1 };
+    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
+    let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+    let unit = kbc::ir::stn::UNITS;
+    assert_eq!(bound.idle, 6 * unit, "{bound:?}");
+    assert_eq!(bound.work, (32 * unit + bound.idle + 2) / 3, "{bound:?}");
+    assert!(bound.work > bound.chain && bound.makespan == bound.work, "{bound:?}");
+    assert!(bound.makespan <= makespan, "bound {bound:?} above the makespan {makespan}");
+}
+
+#[test]
 fn the_makespan_lower_bound_holds_for_improved_plans() {
     // Plans `--improve` shortened come closer to the bound than the default's: they test
     // what it proves where it matters most, on the swap and reverse rungs whose blocks wait.
