@@ -39,6 +39,34 @@ pub(crate) fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
     }
 }
 
+/// A term's identity in the replay: its written form in words (see [`encode`]).
+type Key = Box<[u64]>;
+
+/// Writes `term` to `out` so that two terms give the same words only if they are equal
+/// (floats by their bits): a tag word, then the symbol, the value or the arguments.
+fn encode(term: &Term, out: &mut Vec<u64>) {
+    match term {
+        Term::Var(v) => out.extend([0, u64::from(v.0)]),
+        Term::Atom(s) => out.extend([1, u64::from(s.0)]),
+        Term::Int(i) => out.extend([2, *i as u64]),
+        Term::Float(f) => out.extend([3, f.to_bits()]),
+        Term::Str(s) => out.extend([4, u64::from(s.0)]),
+        Term::Compound(f, args) => {
+            out.extend([5, u64::from(f.0), args.len() as u64]);
+            for arg in args.iter() {
+                encode(arg, out);
+            }
+        }
+    }
+}
+
+/// `term`'s [`Key`].
+fn fact_key(term: &Term) -> Key {
+    let mut key = Vec::with_capacity(16);
+    encode(term, &mut key);
+    key.into_boxed_slice()
+}
+
 /// What happened to one ground fact along the plan.
 #[derive(Default)]
 struct History {
@@ -50,21 +78,16 @@ struct History {
     dels: Vec<usize>,
 }
 
-struct Builder<'a> {
-    interner: &'a Interner,
-    facts: FxHashMap<String, History>,
+struct Builder {
+    facts: FxHashMap<Key, History>,
     /// Fact keys by predicate name and arity, in first-seen order (for Invalid patterns).
-    by_pred: FxHashMap<(crate::intern::Symbol, usize), Vec<String>>,
+    by_pred: FxHashMap<(crate::intern::Symbol, usize), Vec<Key>>,
     orderings: Vec<Ordering>,
 }
 
-impl Builder<'_> {
-    fn key(&self, term: &Term) -> String {
-        hir::term_to_string(self.interner, term, &VarTable::default())
-    }
-
+impl Builder {
     fn history(&mut self, term: &Term) -> &mut History {
-        let key = self.key(term);
+        let key = fact_key(term);
         if !self.facts.contains_key(&key) {
             if let Some((name, arity)) = term.callable() {
                 self.by_pred.entry((name, arity)).or_default().push(key.clone());
@@ -82,7 +105,7 @@ impl Builder<'_> {
 
     /// The last step before `at` (exclusive) that adds the fact, else `Init` if it holds
     /// initially; and every candidate.
-    fn establishers(&self, key: &str, at: usize) -> (Vec<Achiever>, Achiever) {
+    fn establishers(&self, key: &[u64], at: usize) -> (Vec<Achiever>, Achiever) {
         let Some(history) = self.facts.get(key) else { return (Vec::new(), Achiever::Init) };
         let mut candidates: Vec<Achiever> = Vec::new();
         if history.initially {
@@ -95,7 +118,7 @@ impl Builder<'_> {
 
     /// Orders the deleters of `key` around a link from `last` to consumer `at` (`n` for the
     /// goal), condition `condition`.
-    fn protect(&mut self, key: &str, last: Achiever, at: usize, consumer: usize, condition: usize) {
+    fn protect(&mut self, key: &[u64], last: Achiever, at: usize, consumer: usize, condition: usize) {
         let deleters: Vec<usize> = self.facts.get(key).map(|h| h.dels.clone()).unwrap_or_default();
         let reason = Reason::Threat { consumer, condition };
         for d in deleters {
@@ -114,11 +137,10 @@ impl Builder<'_> {
 /// Builds the partial-order plan of `plan`, which must be valid for its problem.
 pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
     let problem = &kb.problems[plan.problem];
-    let mut builder =
-        Builder { interner, facts: FxHashMap::default(), by_pred: FxHashMap::default(), orderings: Vec::new() };
-    let mut state: FxHashMap<String, Term> = FxHashMap::default();
+    let mut builder = Builder { facts: FxHashMap::default(), by_pred: FxHashMap::default(), orderings: Vec::new() };
+    let mut state: FxHashMap<Key, Term> = FxHashMap::default();
     for literal in &problem.init {
-        let key = builder.key(&literal.term);
+        let key = fact_key(&literal.term);
         builder.history(&literal.term).initially = true;
         state.insert(key, literal.term.clone());
     }
@@ -126,7 +148,7 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
     for (i, step) in plan.steps.iter().enumerate() {
         for effect in &kb.actions[step.action].effects {
             let fact = instantiate(&effect.literal.term, &step.bindings);
-            let key = builder.key(&fact);
+            let key = fact_key(&fact);
             match effect.kind {
                 EffectKind::Add => {
                     builder.history(&fact).adds.push(i);
@@ -134,7 +156,7 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
                 }
                 EffectKind::Del if !fact.is_ground() => {
                     // A variable nothing binds: every fact that unifies goes (docs/dsl.md).
-                    let mut gone: Vec<(String, Term)> = state
+                    let mut gone: Vec<(Key, Term)> = state
                         .iter()
                         .filter(|(_, t)| crate::ir::unify::unifiable(&fact, t))
                         .map(|(k, t)| (k.clone(), t.clone()))
@@ -154,17 +176,17 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         }
     }
     // Starts, by the running instance they begin: each end takes the latest open one.
-    let mut open: FxHashMap<String, Vec<usize>> = FxHashMap::default();
+    let mut open: FxHashMap<Key, Vec<usize>> = FxHashMap::default();
     let mut steps: Vec<PopStep> = Vec::with_capacity(plan.steps.len());
     for (i, step) in plan.steps.iter().enumerate() {
         let action = &kb.actions[step.action];
         let running = action.instance(&step.name);
         let start = match action.snap {
             Snap::Start => {
-                open.entry(builder.key(&running)).or_default().push(i);
+                open.entry(fact_key(&running)).or_default().push(i);
                 None
             }
-            Snap::End => open.get_mut(&builder.key(&running)).and_then(Vec::pop),
+            Snap::End => open.get_mut(&fact_key(&running)).and_then(Vec::pop),
             Snap::Instant => None,
         };
         if let Some(s) = start {
@@ -173,7 +195,7 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         let mut conditions = Vec::new();
         for literal in &action.valid {
             let fact = instantiate(&literal.term, &step.bindings);
-            let key = builder.key(&fact);
+            let key = fact_key(&fact);
             let (candidates, last) = builder.establishers(&key, i);
             let index = conditions.len();
             if let Achiever::Step(j) = last {
@@ -192,34 +214,36 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         for literal in &action.invalid {
             let pattern = instantiate(&literal.term, &step.bindings);
             let index = conditions.len();
-            let keys: Vec<String> = match pattern.callable() {
-                Some((name, arity)) => builder.by_pred.get(&(name, arity)).cloned().unwrap_or_default(),
-                None => Vec::new(),
-            };
+            let keys = pattern.callable().and_then(|(name, arity)| builder.by_pred.get(&(name, arity)));
             let mut candidates = Vec::new();
-            for key in keys {
-                let history = &builder.facts[&key];
-                let Some(fact) = history.term.clone() else { continue };
-                if !unifiable(&pattern, &fact) {
+            // (Collected, then ordered: the facts' histories are borrowed meanwhile.)
+            let mut orders: Vec<(usize, usize, Reason)> = Vec::new();
+            for key in keys.into_iter().flatten() {
+                let history = &builder.facts[key];
+                let Some(fact) = &history.term else { continue };
+                if !unifiable(&pattern, fact) {
                     continue;
                 }
-                let (adds, dels, initially) = (history.adds.clone(), history.dels.clone(), history.initially);
+                let (adds, dels) = (&history.adds, &history.dels);
                 let reason = Reason::Threat { consumer: i, condition: index };
                 // Absent at `i`: its last deletion before `i`, if it ever held, comes first.
-                let ever_before = initially || adds.iter().any(|&a| a < i);
+                let ever_before = history.initially || adds.iter().any(|&a| a < i);
                 if let Some(&d) = dels.iter().rfind(|&&d| d < i)
                     && ever_before
                 {
                     candidates.push(Achiever::Step(d));
-                    builder.order(d, i, Reason::Achiever { condition: index });
+                    orders.push((d, i, Reason::Achiever { condition: index }));
                 }
-                for a in adds {
+                for &a in adds {
                     if a > i {
-                        builder.order(i, a, reason);
+                        orders.push((i, a, reason));
                     } else if let Some(&d) = dels.iter().find(|&&d| d > a && d < i) {
-                        builder.order(a, d, reason);
+                        orders.push((a, d, reason));
                     }
                 }
+            }
+            for (before, after, reason) in orders {
+                builder.order(before, after, reason);
             }
             candidates.sort();
             candidates.dedup();
@@ -238,11 +262,16 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
     // The goal, matched against the final state.
     let n = plan.steps.len();
     let mut goal = Vec::new();
-    let finals: Vec<Term> = state.into_values().collect();
+    // (In the order of their text, so that a goal with variables matches the same facts
+    // whatever the hash table's order.)
+    let mut finals: Vec<(String, Term)> =
+        state.into_values().map(|t| (hir::term_to_string(interner, &t, &VarTable::default()), t)).collect();
+    finals.sort_by(|a, b| a.0.cmp(&b.0));
+    let finals: Vec<Term> = finals.into_iter().map(|(_, t)| t).collect();
     let matched = match_goal(&problem.goal, &finals, &mut vec![None; problem.vars.len()]);
     for (g, literal) in problem.goal.iter().enumerate() {
         let fact = matched.as_ref().map_or_else(|| literal.term.clone(), |m| instantiate(&literal.term, m));
-        let key = builder.key(&fact);
+        let key = fact_key(&fact);
         let (candidates, last) = builder.establishers(&key, n);
         builder.protect(&key, last, n, usize::MAX, g);
         goal.push(Condition {
