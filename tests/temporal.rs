@@ -330,10 +330,8 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
         improve: Some(Duration::from_secs(600)),
         ..Options::default()
     };
-    let mut recording = Recording {
-        inner: ReassignedMakespan { kb, interner, program: &program, epsilon: kbc::ir::stn::EPSILON },
-        scored: vec![],
-    };
+    let mut recording =
+        Recording { inner: ReassignedMakespan::new(kb, interner, &program, kbc::ir::stn::EPSILON), scored: vec![] };
     let outcome = planner::search_scored(kb, interner, &mut task, &options, Some(&mut recording), &mut Silent);
     let first = outcome.result.expect("a plan");
     let mut kept = vec![first];

@@ -649,6 +649,7 @@ pub fn search(
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
+    let begun = Instant::now();
     // Decided at the initial state's estimate (relaxed plans are kept until then).
     let mut lookahead = mode != Lookahead::Off;
     let mut decided = false;
@@ -840,6 +841,7 @@ pub fn search(
                 let first = found.is_empty();
                 if first {
                     stats.first_expanded = stats.expanded;
+                    stats.first_found = Some(begun.elapsed());
                 }
                 match scorer.as_deref_mut() {
                     Some(scorer) => match scorer.score(task, &plan) {

@@ -201,6 +201,9 @@ pub struct Stats {
     /// The states expanded until the first plan was found (all of them when the search
     /// stopped there; fewer when it went on to improve the plan).
     pub first_expanded: u64,
+    /// How long the heuristic search took to its first plan, from the same start as
+    /// `elapsed`: the rest of `elapsed` went to improving on it (`Options::improve`).
+    pub first_found: Option<Duration>,
 }
 
 /// Which budget ran out.
@@ -452,6 +455,7 @@ pub fn search_scored(
         }
     };
     outcome.stats.elapsed = started.elapsed();
+    outcome.stats.first_found = outcome.stats.first_found.map(|searching| setup + searching);
     outcome.stats.setup = setup;
     outcome
 }

@@ -371,6 +371,10 @@ pub struct Session {
     arm_problems: Vec<(usize, usize)>,
     /// Per problem asked about, its groundings ([`Session::groundings`]).
     groundings: Vec<(usize, Option<Rc<Grounded>>)>,
+    /// The plan an improving search scored shortest and what `reassign` made of it then
+    /// (`temporal::ReassignedMakespan`), for [`Session::schedule_best`] to take rather than
+    /// run the passes on it again.
+    reassigned: Option<(Plan, temporal::Rearranged)>,
 }
 
 impl Session {
@@ -414,6 +418,7 @@ impl Session {
             tasks: Vec::new(),
             searches: Vec::new(),
             plans: Vec::new(),
+            reassigned: None,
             arm_problems: Vec::new(),
             groundings: Vec::new(),
         }
@@ -595,11 +600,14 @@ impl Session {
         // its states' facts and so its ties, and must not depend on the searches before it.
         // (The session's task, built above once and verified, serves the passes after it.)
         let task = &mut crate::passes::task::build(kb, problem);
-        let mut scorer = ReassignedMakespan { kb, interner, program: &program, epsilon: settings.epsilon };
-        let scorer = settings.scored().then_some(&mut scorer as &mut dyn planner::Score);
+        let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
+        let scored = settings.scored();
         let outcome = timing::time(
             "search",
-            || planner::search_scored(kb, interner, task, &options, scorer, progress),
+            || {
+                let scorer = scored.then_some(&mut scorer as &mut dyn planner::Score);
+                planner::search_scored(kb, interner, task, &options, scorer, progress)
+            },
             |outcome| {
                 let found = match &outcome.result {
                     Ok(plan) => format!("a plan of {} snap actions", plan.steps.len()),
@@ -609,6 +617,9 @@ impl Session {
                 format!("{found}; set-up {setup:.3} s; {}", stats_line(&outcome.stats))
             },
         );
+        if let Some((_, plan, rearranged)) = scorer.best {
+            self.reassigned = Some((plan, rearranged));
+        }
         let found = match outcome.result {
             Ok(first) => {
                 let mut plans = vec![first];
@@ -724,8 +735,16 @@ impl Session {
         let ground = plans.first().map_or(problem, |plan| plan.problem);
         let planned = self.schedule_best(ground, plans, origin, stats, settings)?;
         let spent = stats.map_or(0, |s| s.expanded);
+        // (The time the first search spent improving on its first plan, scoring them all.)
+        let improving = stats.and_then(|s| s.first_found.map(|first| s.elapsed.saturating_sub(first)));
         let planned = self.second_search(problem, ground, planned, settings, progress);
-        let planned = Rc::new(self.restarts(problem, ground, (planned, spent), settings, progress));
+        let planned = Rc::new(self.restarts(
+            problem,
+            ground,
+            (planned, spent, improving.unwrap_or_default()),
+            settings,
+            progress,
+        ));
         self.plans.push((problem, settings.clone(), planned.clone()));
         Ok(planned)
     }
@@ -788,12 +807,15 @@ impl Session {
     /// 2, ... ([`PlanSettings::tie_seed`]), each plan scheduled, rearranged and followed by
     /// the second search as the first was, until the improvement's time is over or the
     /// searches have expanded `settings.max_states` states in all (`spent` by the first); the
-    /// shortest schedule is kept (the first among equals).
+    /// shortest schedule is kept (the first among equals). The improvement's time is its share
+    /// of `--improve`, or what the first search's improving (`improving`: it scores each plan
+    /// it finds with the passes, and overruns its own share by up to one plan's passes) left
+    /// of the whole if less.
     fn restarts(
         &mut self,
         problem: usize,
         ground: usize,
-        (planned, spent): (Planned, u64),
+        (planned, spent, improving): (Planned, u64, std::time::Duration),
         settings: &PlanSettings,
         progress: &mut dyn Progress,
     ) -> Planned {
@@ -802,7 +824,8 @@ impl Session {
             return planned;
         }
         let before = planned.timed.schedule.makespan;
-        let until = Instant::now() + improve.mul_f64(1.0 - IMPROVING_SEARCH_SHARE);
+        let share = improve.mul_f64(1.0 - IMPROVING_SEARCH_SHARE);
+        let until = Instant::now() + share.min(improve.saturating_sub(improving));
         // (One line in `-v` for them all: their own passes run inside it.)
         timing::time(
             "restarts",
@@ -1163,9 +1186,24 @@ impl Session {
             match temporal::schedule(kb, interner, &program, plan, None, settings.epsilon, &mut attempt) {
                 Some(timed) => {
                     let searched = timed.schedule.makespan;
+                    // (What the improving search's scorer made of this plan, if it was its
+                    // best: the same passes, run once.)
+                    let kept = match self.reassigned.take() {
+                        Some((scored, rearranged)) if scored == *plan && reassign => Some(rearranged),
+                        _ => None,
+                    };
                     let (timed, sent) = if reassign {
-                        let rearranged =
-                            temporal::reassign(kb, interner, &program, task, (std::mem::take(plan), timed), Moves::All);
+                        let rearranged = match kept {
+                            Some(rearranged) => rearranged,
+                            None => temporal::reassign(
+                                kb,
+                                interner,
+                                &program,
+                                task,
+                                (std::mem::take(plan), timed),
+                                Moves::All,
+                            ),
+                        };
                         *plan = rearranged.plan;
                         (rearranged.timed, (rearranged.detours, rearranged.relocated, rearranged.merged))
                     } else {

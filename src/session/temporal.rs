@@ -557,13 +557,27 @@ pub struct ReassignedMakespan<'a> {
     pub program: &'a crate::engine::Program,
     /// The separation of ordered snap actions in the temporal network.
     pub epsilon: i64,
+    /// The shortest so far: its makespan, the plan scored and what `reassign` made of it (the
+    /// first among equals, as the search keeps).
+    pub(crate) best: Option<(i64, crate::ir::plan::Plan, Rearranged)>,
+}
+
+impl<'a> ReassignedMakespan<'a> {
+    /// A scorer for plans of the problem whose `program` is given, with nothing scored yet.
+    pub fn new(kb: &'a Kb, interner: &'a Interner, program: &'a crate::engine::Program, epsilon: i64) -> Self {
+        ReassignedMakespan { kb, interner, program, epsilon, best: None }
+    }
 }
 
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
         let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), Moves::All);
-        Some(rearranged.timed.schedule.makespan)
+        let makespan = rearranged.timed.schedule.makespan;
+        if self.best.as_ref().is_none_or(|(best, _, _)| makespan < *best) {
+            self.best = Some((makespan, plan.clone(), rearranged));
+        }
+        Some(makespan)
     }
 }
 
