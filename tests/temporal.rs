@@ -333,6 +333,9 @@ fn improving_with_a_scorer_keeps_the_plans_it_scores_shorter() {
     let mut recording =
         Recording { inner: ReassignedMakespan::new(kb, interner, &program, kbc::ir::stn::EPSILON), scored: vec![] };
     let outcome = planner::search_scored(kb, interner, &mut task, &options, Some(&mut recording), &mut Silent);
+    // When the first plan came is known, and the improving went on after it.
+    let first_found = outcome.stats.first_found.expect("a first plan, found at a known time");
+    assert!(first_found <= outcome.stats.elapsed && outcome.stats.first_expanded < outcome.stats.expanded);
     let first = outcome.result.expect("a plan");
     let mut kept = vec![first];
     kept.extend(outcome.alternatives);
