@@ -223,6 +223,13 @@ fn bench_writes_the_ladder_and_runs_a_rung() {
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(planned.status.code(), Some(0), "{}", stderr(&planned));
 
+    // The table ends with a line on the whole: here every plan is within 1.01x of its bound.
+    let text = kbc(&["bench", "--filter", "_b02_", "--search", "heuristic"]);
+    assert_eq!(text.status.code(), Some(0), "{}", stderr(&text));
+    let last = stdout(&text).lines().last().unwrap_or_default().to_string();
+    assert!(last.starts_with("heuristic search: 3 of 3 rungs solved, slowest "), "{last}");
+    assert!(last.contains("within 1.3x of the bound on 3, within 1.15x on 3; sum of makespans "), "{last}");
+
     let run = kbc(&["bench", "--filter", "build_b02_", "--search", "heuristic", "--format", "json"]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
     let rows: serde_json::Value = serde_json::from_str(stdout(&run).trim()).expect("a JSON array");

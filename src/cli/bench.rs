@@ -152,6 +152,11 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
             rows.push(row);
         }
     }
+    if args.format == Format::Text {
+        for &search in searches {
+            let _ = writeln!(out, "{}", summary(search, &rows));
+        }
+    }
     if args.format == Format::Json {
         let rows: Vec<serde_json::Value> = rows
             .iter()
@@ -189,6 +194,33 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
+}
+
+/// One line on the rows of `search`: how many rungs it solved and how long the slowest
+/// took, and on how many the makespan is within 1.3 and 1.15 times the bound (the ratios
+/// unrounded, unlike the table's column), with the sum of the makespans.
+fn summary(search: SearchKind, rows: &[Row]) -> String {
+    let rows: Vec<&Row> = rows.iter().filter(|r| r.search == search).collect();
+    let solved: Vec<&&Row> = rows.iter().filter(|r| r.result.is_ok()).collect();
+    let slowest = rows
+        .iter()
+        .max_by_key(|r| r.elapsed)
+        .map_or(String::new(), |r| format!(", slowest {} {:.3} s", r.rung.name(), r.elapsed.as_secs_f64()));
+    // (makespan, bound) of the solved rungs.
+    let pairs: Vec<(i64, i64)> = solved.iter().filter_map(|r| Some((r.makespan?.0, r.lower_bound?.makespan))).collect();
+    // m <= f * b, with f in hundredths and exact integers.
+    let within = |hundredths: i64| pairs.iter().filter(|&&(m, b)| b > 0 && m * 100 <= b * hundredths).count();
+    let sum: i64 = pairs.iter().map(|&(m, _)| m).sum();
+    format!(
+        "{} search: {} of {} rungs solved{slowest}; makespan within 1.3x of the bound on {}, within 1.15x on {}; \
+         sum of makespans {}",
+        search_name(search),
+        solved.len(),
+        rows.len(),
+        within(130),
+        within(115),
+        format_time(sum)
+    )
 }
 
 fn search_name(search: SearchKind) -> &'static str {
