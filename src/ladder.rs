@@ -470,8 +470,8 @@ impl Rung {
                 .collect()
         };
         let (before, after) = (levels(&init, grip), levels(&goal, release));
-        let firsts = Self::least_idle(before.values().copied(), least_cycle.unwrap_or(0), self.arms);
-        let lasts = Self::least_idle(after.values().copied(), least_cycle.unwrap_or(0), self.arms);
+        let firsts = Self::least_idle(before.values().copied(), least_cycle.unwrap_or(0), self.arms.max(1));
+        let lasts = Self::least_idle(after.values().copied(), least_cycle.unwrap_or(0), self.arms.max(1));
         let idle = firsts.iter().chain(&lasts).sum();
         // With u arms at work (the others idle throughout), u * makespan covers the work and
         // the u least idle times at either end; the least over u.
