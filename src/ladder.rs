@@ -509,8 +509,7 @@ impl Rung {
         let mut all: Vec<i64> =
             offsets.flat_map(|o| (0..arms as i64).map(move |r| o.saturating_add(r.saturating_mul(cycle)))).collect();
         all.sort_unstable();
-        all.resize(arms.max(all.len()), 0);
-        all.truncate(arms);
+        all.resize(arms, 0);
         all
     }
 

@@ -39,7 +39,9 @@ pub(crate) fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
     }
 }
 
-/// A term's identity in the replay: its written form in words (see [`encode`]).
+/// A term's identity in the replay: its written form in words (see [`encode`]). (Not an
+/// [`crate::ir::task::ConstId`]: `Consts` interns ground terms only, and the facts of an
+/// arm-level plan, which keep Prolog's unification, may have variables.)
 type Key = Box<[u64]>;
 
 /// Writes `term` to `out` so that two terms give the same words only if they are equal

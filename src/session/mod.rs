@@ -617,8 +617,8 @@ impl Session {
                 format!("{found}; set-up {setup:.3} s; {}", stats_line(&outcome.stats))
             },
         );
-        if let Some((_, plan, rearranged)) = scorer.best {
-            self.reassigned = Some((plan, rearranged));
+        if let Some(best) = scorer.best {
+            self.reassigned = Some(best);
         }
         let found = match outcome.result {
             Ok(first) => {
@@ -1186,16 +1186,12 @@ impl Session {
             match temporal::schedule(kb, interner, &program, plan, None, settings.epsilon, &mut attempt) {
                 Some(timed) => {
                     let searched = timed.schedule.makespan;
-                    // (What the improving search's scorer made of this plan, if it was its
-                    // best: the same passes, run once.)
-                    let kept = match self.reassigned.take() {
-                        Some((scored, rearranged)) if scored == *plan && reassign => Some(rearranged),
-                        _ => None,
-                    };
                     let (timed, sent) = if reassign {
-                        let rearranged = match kept {
-                            Some(rearranged) => rearranged,
-                            None => temporal::reassign(
+                        // (What the improving search's scorer made of this plan, if it was its
+                        // best: the same passes, run once.)
+                        let rearranged = match self.reassigned.take() {
+                            Some((scored, rearranged)) if scored == *plan => rearranged,
+                            _ => temporal::reassign(
                                 kb,
                                 interner,
                                 &program,

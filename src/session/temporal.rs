@@ -557,9 +557,9 @@ pub struct ReassignedMakespan<'a> {
     pub program: &'a crate::engine::Program,
     /// The separation of ordered snap actions in the temporal network.
     pub epsilon: i64,
-    /// The shortest so far: its makespan, the plan scored and what `reassign` made of it (the
-    /// first among equals, as the search keeps).
-    pub(crate) best: Option<(i64, crate::ir::plan::Plan, Rearranged)>,
+    /// The shortest so far: the plan scored and what `reassign` made of it (the first among
+    /// equals, as the search keeps).
+    pub(crate) best: Option<(crate::ir::plan::Plan, Rearranged)>,
 }
 
 impl<'a> ReassignedMakespan<'a> {
@@ -574,8 +574,8 @@ impl crate::planner::Score for ReassignedMakespan<'_> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
         let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), Moves::All);
         let makespan = rearranged.timed.schedule.makespan;
-        if self.best.as_ref().is_none_or(|(best, _, _)| makespan < *best) {
-            self.best = Some((makespan, plan.clone(), rearranged));
+        if self.best.as_ref().is_none_or(|(_, best)| makespan < best.timed.schedule.makespan) {
+            self.best = Some((plan.clone(), rearranged));
         }
         Some(makespan)
     }
