@@ -282,8 +282,9 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   can start and cannot all stay in the arms are put down on their way, and move again
 ///   (`aside`, see `Rung::put_aside`); or, counted instead where it is more: a block above
 ///   another both at the start and in the goal, where the one below moves, is lifted before
-///   that one's last cycle and put in its goal place after it, so it is either held through
-///   that cycle or moves twice (`waiting`, see `Rung::waiting`). The arms share the sum, and
+///   that one's first grip (and the grips of the blocks between them) and put in its goal
+///   place after its last release, so it is either held through all of that or moves twice
+///   (`waiting`, see `Rung::waiting`). The arms share the sum, and
 ///   more (`idle`): an arm is idle before its first grip and after its last release. A block
 ///   with k blocks above it at the start is gripped no earlier than k grips after the start
 ///   (each one above must be gripped and lifted first, one after another); one with k blocks
@@ -441,19 +442,14 @@ impl Rung {
         let aside = self.put_aside(&init, &goal, &works, |b, start, target| {
             via(start, target).map_or(0, |via| (via - works[&b]).max(0))
         });
-        // The least duration of a block's last cycle onto its goal cell, from any other cell.
-        let last_cycle = |target: (usize, usize)| -> i64 {
-            let t = cells.iter().position(|&c| c == target).expect("a cell of the table");
-            (0..n).filter(|&s| s != t).map(|s| cycle[s * n + t]).min().unwrap_or(0)
-        };
-        let (waiting, occupied) = self.waiting(&init, &goal, &works, |b, below, k| {
+        let (waiting, occupied) = self.waiting(&init, &goal, &works, |b, below, k, j| {
             let (start, target) = (from[&b].0, to[&b].0);
             let twice = via(start, target).unwrap_or(i64::MAX);
             if start == target {
                 return (None, twice.min(round_trip(start)));
             }
             let once = moving(session, start, target) - grip - release;
-            let held = grip + once.max(last_cycle(to[&below].0) + k * release) + release;
+            let held = grip + once.max(j * grip + works[&below] + k * release) + release;
             (Some(held), twice)
         });
         // Idle at the ends: how long each block waits at least before its first grip (one
@@ -517,26 +513,30 @@ impl Rung {
     /// beyond each block's own least work (`works`), and each such block's least work alone.
     ///
     /// Let b stand above g at the start and above g in its goal tower, with g moving at least
-    /// once, and k blocks between them in the goal tower. Everything above g is lifted before
-    /// g is gripped (a grip wants `clear/1`, which only lifting the block on top gives), so b's
-    /// first lift comes before the grip that starts g's last cycle. b's last move ends on a
-    /// block that is in its goal place for good, so after that block's release (the only
-    /// thing that gives `clear/1` back after its grip), which comes after the release of the
-    /// block below it, and so on down to g's last release: k releases after g's last cycle.
-    /// So b either moves twice or more (`twice`: at least the least work of reaching its goal
-    /// from a first move elsewhere), or moves once, held by one arm from its grip to its
-    /// release, through g's whole last cycle and the k releases (`held`). The arms that hold
-    /// blocks through g's last cycle are not g's, so at most `arms - 1` blocks of each g are
-    /// held; the rest move twice. A block whose goal is on its own cell cannot move once.
+    /// once, k blocks between them in the goal tower and j between them at the start.
+    /// Everything above g is lifted before g is gripped (a grip wants `clear/1`, which only
+    /// lifting the block on top gives), one after another from the top: each of the j blocks
+    /// between b and g is gripped only once the one on it is lifted, and lifted a whole grip
+    /// later at least. So b's first lift comes j grips before g's first grip at least. b's
+    /// last move ends on a block that is in its goal place for good, so after that block's
+    /// release (the only thing that gives `clear/1` back after its grip), which comes after
+    /// the release of the block below it, and so on down to g's last release: k releases
+    /// after g's last cycle. So b either moves twice or more (`twice`: at least the least work
+    /// of reaching its goal from a first move elsewhere), or moves once, held by one arm from
+    /// its grip to its release, through the j grips, every cycle of g (one after another, from
+    /// its first grip to its last release: g's least work at least) and the k releases
+    /// (`held`). The arms that hold blocks through g's cycles are not g's, so at most
+    /// `arms - 1` blocks of each g are held; the rest move twice. A block whose goal is on its
+    /// own cell cannot move once.
     ///
-    /// `occupancy(b, g, k)` gives b's `(held, twice)`, `held` None when b cannot move once.
+    /// `occupancy(b, g, k, j)` gives b's `(held, twice)`, `held` None when b cannot move once.
     /// Every b is counted with the lowest such g, so in one group only.
     fn waiting(
         &self,
         init: &[Tower],
         goal: &[Tower],
         works: &std::collections::BTreeMap<usize, i64>,
-        mut occupancy: impl FnMut(usize, usize, i64) -> (Option<i64>, i64),
+        mut occupancy: impl FnMut(usize, usize, i64, i64) -> (Option<i64>, i64),
     ) -> (i64, std::collections::BTreeMap<usize, i64>) {
         let start_of = |b: usize| -> (&Vec<usize>, usize) {
             let (_, tower) = init.iter().find(|(_, t)| t.contains(&b)).expect("every block starts somewhere");
@@ -553,7 +553,9 @@ impl Rung {
                 let Some(g_level) = below else { continue };
                 let g = tower[g_level];
                 let k = (level - g_level - 1) as i64;
-                let (held, twice) = occupancy(b, g, k);
+                let g_start = start[..start_level].iter().position(|&x| x == g).expect("g is below b");
+                let j = (start_level - g_start - 1) as i64;
+                let (held, twice) = occupancy(b, g, k, j);
                 let own = works[&b];
                 match held {
                     None => {

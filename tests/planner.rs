@@ -297,6 +297,27 @@ fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
 }
 
 #[test]
+fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_waits_for() {
+    // swap_b06_a3_s1: the towers [b5, b4, b6] on (1, 2) and [b3, b1, b2] on (3, 2) trade
+    // cells, two cells apart: every block's least cycle is 1 + 3 + 1 = 5 units, 30 in all.
+    // b4 (on b5 at the start and in the goal) is lifted before b5 is gripped and put back on
+    // it after b5's release: held once, its move lasts through b5's whole cycle (5), so its
+    // own cycle takes 7; moved twice, at least 4 + 4 (a neighbouring cell on the way). b6 on
+    // top is lifted a grip before b4 can even be gripped, and put down a release after b4:
+    // held, 1 + (1 + 5 + 1) + 1 = 9; twice, 8. So 2 + 3 more per tower, 10 in all, and with
+    // the arms' idle time at either end (1 + 1), the work shared by three arms is 42 / 3.
+    let rung = Rung { family: Family::Swap, blocks: 6, arms: 3, seed: 1 };
+    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
+    let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+    let unit = kbc::ir::stn::UNITS;
+    assert_eq!(bound.waiting, 10 * unit, "{bound:?}");
+    assert_eq!(bound.idle, 2 * unit, "{bound:?}");
+    assert_eq!(bound.work, 14 * unit, "{bound:?}");
+    assert_eq!(bound.makespan, bound.work, "{bound:?}");
+    assert!(bound.makespan <= makespan, "bound {bound:?} above the makespan {makespan}");
+}
+
+#[test]
 fn the_makespan_lower_bound_holds_for_improved_plans() {
     // Plans `--improve` shortened come closer to the bound than the default's: they test
     // what it proves where it matters most, on the swap and reverse rungs whose blocks wait.
