@@ -333,6 +333,13 @@ fn the_makespan_lower_bound_holds_for_every_plan_found() {
     assert!(tight >= 8, "the bound is within 1.3x of the plan on only {tight} rungs");
 }
 
+/// The makespan of `rung`'s plan (found by the heuristic search and run through the passes
+/// that follow) and the rung's lower bound.
+fn planned_with_bound(rung: Rung) -> (i64, ladder::LowerBound) {
+    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
+    (row.makespan.expect("solved").0, row.lower_bound.expect("a bound"))
+}
+
 #[test]
 fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
     // reverse_b04_a3_s1: one tower of four blocks reversed on its cell by three arms. Only its
@@ -341,9 +348,7 @@ fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
     // earlier at the latest, and so on. So the arms are idle at least 0 + 1 + 2 grips at the
     // start and 0 + 1 + 2 releases at the end (one unit each in std/blocks.pl), and the work
     // (each block off its cell and back, 8 units: 32 in all) is shared out with them.
-    let rung = Rung { family: Family::Reverse, blocks: 4, arms: 3, seed: 1 };
-    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
-    let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+    let (makespan, bound) = planned_with_bound(Rung { family: Family::Reverse, blocks: 4, arms: 3, seed: 1 });
     let unit = kbc::ir::stn::UNITS;
     assert_eq!(bound.idle, 6 * unit, "{bound:?}");
     assert_eq!(bound.work, (32 * unit + bound.idle + 2) / 3, "{bound:?}");
@@ -361,9 +366,7 @@ fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_wa
     // top is lifted a grip before b4 can even be gripped, and put down a release after b4:
     // held, 1 + (1 + 5 + 1) + 1 = 9; twice, 8. So 2 + 3 more per tower, 10 in all, and with
     // the arms' idle time at either end (1 + 1), the work shared by three arms is 42 / 3.
-    let rung = Rung { family: Family::Swap, blocks: 6, arms: 3, seed: 1 };
-    let row = ladder::run(&rung, SearchKind::Heuristic, budget(60), None);
-    let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+    let (makespan, bound) = planned_with_bound(Rung { family: Family::Swap, blocks: 6, arms: 3, seed: 1 });
     let unit = kbc::ir::stn::UNITS;
     assert_eq!(bound.waiting, 10 * unit, "{bound:?}");
     assert_eq!(bound.idle, 2 * unit, "{bound:?}");
