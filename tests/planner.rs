@@ -138,6 +138,26 @@ fn the_ladder_up_to_twenty_blocks_is_solved_and_every_plan_validates() {
     }
 }
 
+/// The ground relaxation's estimate of problem 0's initial state, as the search makes it
+/// (with its relaxed plan when `keep_plan`, as the lookahead asks), with its count of
+/// landmarks left and the task.
+fn initial_estimate(
+    frontend: &Frontend,
+    keep_plan: bool,
+) -> (kbc::ir::task::Task, kbc::planner::relaxed::Estimate, u32) {
+    let mut task = passes::task::build(&frontend.kb, 0);
+    let program = planner::program_for(&frontend.kb, 0);
+    let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+    let mut relaxation = Relaxation::new(&task);
+    let (machine, cache) = successors.parts();
+    assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
+    relaxation.keep_relaxed_plans(keep_plan);
+    let init = task.init.clone();
+    let (estimate, landmarks) =
+        relaxation.evaluate_for_search(&mut task, &init, machine, cache, None).expect("no engine error");
+    (task, estimate, landmarks.map_or(0, |(_, count)| count))
+}
+
 #[test]
 fn by_default_the_lookahead_is_on_for_large_problems_only() {
     // `Lookahead::Auto` decides on the search's estimate of the initial state: the rungs up
@@ -153,16 +173,8 @@ fn by_default_the_lookahead_is_on_for_large_problems_only() {
     for (family, blocks, arms, large) in cases {
         let rung = Rung { family, blocks, arms, seed: 1 };
         let frontend = from_text("rung.pl", rung.source());
-        let mut task = passes::task::build(&frontend.kb, 0);
-        let program = planner::program_for(&frontend.kb, 0);
-        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
-        let mut relaxation = Relaxation::new(&task);
-        let (machine, cache) = successors.parts();
-        assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
-        let init = task.init.clone();
-        let (estimate, landmarks) =
-            relaxation.evaluate_for_search(&mut task, &init, machine, cache, None).expect("no engine error");
-        let h = estimate.h_ff.expect("not a dead end") + landmarks.map_or(0, |(_, count)| count);
+        let (_, estimate, landmarks) = initial_estimate(&frontend, false);
+        let h = estimate.h_ff.expect("not a dead end") + landmarks;
         assert_eq!(Lookahead::Auto.wanted(h), large, "{}: initial estimate {h}", rung.name());
     }
     // The decision reaches the search: on a small rung it does not look ahead unless asked.
@@ -187,16 +199,7 @@ fn a_relaxed_plan_that_parks_blocks_comes_stack_by_stack() {
     let rung = Rung { family: Family::Reverse, blocks: 10, arms: 4, seed: 1 };
     let source = rung.source();
     let frontend = from_text("rung.pl", source.clone());
-    let mut task = passes::task::build(&frontend.kb, 0);
-    let program = planner::program_for(&frontend.kb, 0);
-    let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
-    let mut relaxation = Relaxation::new(&task);
-    let (machine, cache) = successors.parts();
-    assert!(relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error"));
-    relaxation.keep_relaxed_plans(true);
-    let init = task.init.clone();
-    let (estimate, _) =
-        relaxation.evaluate_for_search(&mut task, &init, machine, cache, None).expect("no engine error");
+    let (task, estimate, _) = initial_estimate(&frontend, true);
     // Each block's stack: the cell it starts on (the test's first list).
     let init_facts = source.split('[').nth(1).expect("an initial state");
     let stack_of = |block: &str| -> String {
