@@ -728,45 +728,40 @@ impl GroundTask {
     /// them, nor does an exclusion node's member (a free cell). On a reverse rung the groups
     /// are the stacks: a block's trips aside and back, and the moves that clear it.
     fn groups(&self, picked: &[usize]) -> rustc_hash::FxHashMap<usize, usize> {
-        let mut parent: rustc_hash::FxHashMap<usize, usize> =
-            picked.iter().flat_map(|&a| [a, self.whole(a)]).map(|a| (a, a)).collect();
-        fn find(parent: &mut rustc_hash::FxHashMap<usize, usize>, mut a: usize) -> usize {
-            while parent[&a] != a {
-                let up = parent[&parent[&a]];
-                parent.insert(a, up);
-                a = up;
-            }
-            a
+        // Dense indices for the chosen actions and their other parts, as the sets want.
+        let mut index: rustc_hash::FxHashMap<usize, usize> = rustc_hash::FxHashMap::default();
+        let mut members: Vec<usize> = Vec::new();
+        for a in picked.iter().flat_map(|&a| [a, self.whole(a)]) {
+            index.entry(a).or_insert_with(|| {
+                members.push(a);
+                members.len() - 1
+            });
         }
-        let union = |parent: &mut rustc_hash::FxHashMap<usize, usize>, a: usize, b: usize| {
-            if !parent.contains_key(&b) {
-                return;
-            }
-            let (ra, rb) = (find(parent, a), find(parent, b));
-            if ra != rb {
-                parent.insert(ra.max(rb), ra.min(rb));
-            }
-        };
         let mut readers: rustc_hash::FxHashMap<u32, u32> = rustc_hash::FxHashMap::default();
         for &b in picked {
             for (p, _) in self.chosen_preconditions(b, self.chosen_member(b)) {
                 *readers.entry(p).or_default() += 1;
             }
         }
+        let mut sets = petgraph::unionfind::UnionFind::<usize>::new(members.len());
         for &b in picked {
-            union(&mut parent, b, self.whole(b));
-            if self.pair[b] != NONE {
-                union(&mut parent, b, self.pair[b] as usize);
-            }
-            for (p, excluded) in self.chosen_preconditions(b, self.chosen_member(b)) {
-                let a = self.supporter[p as usize];
-                if a != NONE && !excluded && readers[&p] <= SHARED_READERS {
-                    union(&mut parent, b, a as usize);
+            let supporters = self
+                .chosen_preconditions(b, self.chosen_member(b))
+                .filter(|&(p, excluded)| !excluded && readers[&p] <= SHARED_READERS)
+                .map(|(p, _)| self.supporter[p as usize])
+                .filter(|&a| a != NONE)
+                .map(|a| a as usize);
+            for a in std::iter::once(self.whole(b)).chain(supporters) {
+                if let Some(&other) = index.get(&a) {
+                    sets.union(index[&b], other);
                 }
             }
         }
-        let keys: Vec<usize> = parent.keys().copied().collect();
-        keys.into_iter().map(|a| (a, find(&mut parent, a))).collect()
+        let mut least: rustc_hash::FxHashMap<usize, usize> = rustc_hash::FxHashMap::default();
+        for (i, &a) in members.iter().enumerate() {
+            least.entry(sets.find_mut(i)).and_modify(|m| *m = (*m).min(a)).or_insert(a);
+        }
+        members.iter().enumerate().map(|(i, &a)| (a, least[&sets.find_mut(i)])).collect()
     }
 
     /// The action that names `a`'s whole instantiation: its adding part for the deleting part
