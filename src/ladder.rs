@@ -300,7 +300,16 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   placed: the longest of these.
 /// - `chain`: a goal tower is built bottom up (a block is put on another only once that one
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
-///   every block above it needs at least one more release after that.
+///   every block above it needs at least one more release after that. And the arms are few:
+///   each block's last cycle in the tower (grip to release, on one arm) comes from another
+///   cell, so it takes at least the least cycle into the tower's cell; of any `arms + 1`
+///   consecutive blocks from the first that moves up, two have their last cycles on one arm,
+///   the upper one's after the lower one's release (the upper is released later, and an arm
+///   does one cycle at a time). Whichever two they are, the top one of the `arms + 1` is
+///   released no earlier than the bottom one plus that least cycle (the pair's lower block is
+///   released no earlier than the bottom one, and the top one no earlier than the pair's upper
+///   one). So the last releases grow by a release a level, and by that cycle every `arms`
+///   levels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LowerBound {
     /// The bound: the largest of the three.
@@ -486,12 +495,29 @@ impl Rung {
             .map(|(b, w)| before[b] + occupied.get(b).copied().unwrap_or(*w).max(*w) + after[b])
             .max()
             .unwrap_or(0);
+        // The last cycle of a block on a goal cell comes from another cell: the least cycle
+        // into the cell.
+        let least_into = |cell: (usize, usize)| -> i64 {
+            let t = cells.iter().position(|&c| c == cell).expect("a cell of the table");
+            (0..n).filter(|&s| s != t).map(|s| cycle[s * n + t]).min().unwrap_or(0)
+        };
+        let arms = self.arms.max(1);
         let mut chain = 0;
-        for (_, tower) in &goal {
-            if let Some(first) = tower.iter().position(|b| works[b] > 0) {
-                let above = (tower.len() - 1 - first) as i64;
-                chain = chain.max(works[&tower[first]] + above * release);
+        for (cell, tower) in &goal {
+            let Some(first) = tower.iter().position(|b| works[b] > 0) else { continue };
+            // The least time of each last release, from the first block that moves up: one
+            // release after the one below, and, from the arms + 1st block on, a last cycle
+            // after the last release `arms` blocks below (see `LowerBound::chain`).
+            let last = least_into(*cell);
+            let mut ends: Vec<i64> = vec![works[&tower[first]]];
+            for level in 1..tower.len() - first {
+                let mut end = ends[level - 1] + release;
+                if let Some(below) = level.checked_sub(arms) {
+                    end = end.max(ends[below] + last);
+                }
+                ends.push(end);
             }
+            chain = chain.max(*ends.last().expect("the first block's"));
         }
         LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting, idle }
     }

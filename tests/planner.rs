@@ -360,6 +360,23 @@ fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
 }
 
 #[test]
+fn with_few_arms_a_goal_tower_waits_a_whole_cycle_every_arms_levels() {
+    // build_b04_a3_s1: the goal tower on (5, 1) is b2, b1, b3, b4 bottom up, and b1 stands on
+    // (5, 1) at the start. b2 comes from (1, 2), five cells away: its cycle (1 + 6 + 1) ends
+    // at 8 at the earliest, and each block above is released a release (one unit) after the
+    // one below: 9, 10, 11, the old chain. But three arms place four blocks: two of the last
+    // cycles share an arm, the upper one after the lower one's release, and the least cycle
+    // into (5, 1) is 1 + 2 + 1 (from a neighbouring cell). So b4 is released at 8 + 4 = 12 at
+    // the earliest. (The best plan `--improve` finds takes 13: a1 places b2 and then b4,
+    // which waited on (3, 1).)
+    let (makespan, bound) = planned_with_bound(Rung { family: Family::Build, blocks: 4, arms: 3, seed: 1 });
+    let unit = kbc::ir::stn::UNITS;
+    assert_eq!(bound.chain, 12 * unit, "{bound:?}");
+    assert_eq!(bound.makespan, bound.chain, "{bound:?}");
+    assert!(bound.makespan <= makespan, "bound {bound:?} above the makespan {makespan}");
+}
+
+#[test]
 fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_waits_for() {
     // swap_b06_a3_s1: the towers [b5, b4, b6] on (1, 2) and [b3, b1, b2] on (3, 2) trade
     // cells, two cells apart: every block's least cycle is 1 + 3 + 1 = 5 units, 30 in all.
