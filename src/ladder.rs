@@ -506,7 +506,7 @@ impl Rung {
         for (cell, tower) in &goal {
             let Some(first) = tower.iter().position(|b| works[b] > 0) else { continue };
             // The least time of each last release, from the first block that moves up: one
-            // release after the one below, and, from the arms + 1st block on, a last cycle
+            // release after the one below, and, from the (arms + 1)th block on, a last cycle
             // after the last release `arms` blocks below (see `LowerBound::chain`).
             let last = least_into(*cell);
             let mut ends: Vec<i64> = vec![works[&tower[first]]];
