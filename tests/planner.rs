@@ -1230,7 +1230,10 @@ fn the_ladders_expansions_count_every_search_the_plan_ran() {
 
 /// A session's search plans as the same search in a fresh session does, whatever searches
 /// ran before it (their interned constants and facts once numbered the states' facts, and
-/// so broke ties otherwise: another plan with a tie-break seed after a default search).
+/// so broke ties otherwise: another plan with a tie-break seed after a default search). The
+/// later search starts from the set-up the first one kept (the first search starts without
+/// the lookahead, so it keeps its set-up for the second search `kbc plan` runs), and the
+/// fresh one grounds its own: the plans and expansions are the same.
 #[test]
 fn a_search_does_not_depend_on_the_searches_before_it() {
     use kbc::session::{PlanSettings, Session};
@@ -1250,8 +1253,34 @@ fn a_search_does_not_depend_on_the_searches_before_it() {
             let again = used.search(0, &later, &mut Silent).expect("a plan");
             let mut fresh = Session::from_text(&name, rung.source());
             let alone = fresh.search(0, &later, &mut Silent).expect("a plan");
+            assert!(again.stats.setup_kept && !alone.stats.setup_kept, "{name}");
             assert_eq!(again.plans, alone.plans, "{name}");
             assert_eq!(again.stats.expanded, alone.stats.expanded, "{name}");
+            assert_eq!(again.stats.generated, alone.stats.generated, "{name}");
         }
     }
+}
+
+/// A kept set-up carries the task as grounding left it: here the OnKB goals compute the
+/// counter's values (`M is N + 1`), which grounding interns as new constants, so a later
+/// search must take them with the relaxation and the answers that name them.
+#[test]
+fn a_kept_set_up_carries_the_constants_grounding_made() {
+    use kbc::session::{PlanSettings, Session};
+    let source = "action(inc_start(N, M), [count(N)], [], [], [N < 6, M is N + 1],
+    [del(count(N)), add(incrementing(N, M))]).
+action(inc_end(N, M), [incrementing(N, M)], [], [], [], [del(incrementing(N, M)), add(count(M))]).
+duration(inc(_, _), 1, 2).
+counter :- go([count(0)], [count(6)]).
+";
+    let first = PlanSettings { timeout: Some(Duration::from_secs(60)), ..Default::default() };
+    let later = PlanSettings { tie_seed: Some(2), lookahead: Lookahead::On, ..first.clone() };
+    let mut used = Session::from_text("counter.pl", source.to_string());
+    used.search(0, &first, &mut Silent).expect("a plan");
+    let again = used.search(0, &later, &mut Silent).expect("a plan");
+    let mut fresh = Session::from_text("counter.pl", source.to_string());
+    let alone = fresh.search(0, &later, &mut Silent).expect("a plan");
+    assert!(again.stats.setup_kept && !alone.stats.setup_kept);
+    assert_eq!(again.plans, alone.plans);
+    assert_eq!(again.plans[0].steps.len(), 12);
 }

@@ -446,7 +446,7 @@ impl State {
 }
 
 /// One problem of a KB, compiled for search.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Task {
     /// The problem's index in `Kb::problems`.
     pub problem: usize,

@@ -20,6 +20,7 @@ use super::relaxed::{Estimate, Helpful, PlanAction};
 use crate::ir::task::ConstId;
 
 /// One rule instantiation recorded during grounding: tuples as (view, index in view).
+#[derive(Clone)]
 pub(super) struct RecordedAction {
     pub rule: u32,
     /// Its variables' values, as a helpful action names it.
@@ -53,7 +54,7 @@ pub(super) enum Source {
 /// Auxiliary nodes of the ground task (the relaxation's exclusion nodes), achieved at no cost
 /// by actions of one precondition each: they stand for a choice among tuples, as "some fact
 /// of this group other than that one". They are not landmarks and add nothing to h_FF.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Auxiliary {
     /// The number of auxiliary nodes.
     pub count: u32,
@@ -81,6 +82,7 @@ impl RecordedAction {
 pub(super) type Negative<'a> = (&'a [u32], &'a [Vec<(u32, u32)>]);
 
 /// The ground relaxed task and its scratch space.
+#[derive(Clone)]
 pub(super) struct GroundTask {
     /// The first fact number of each view.
     pub(super) offsets: Vec<u32>,
@@ -165,7 +167,7 @@ const SHARED_READERS: u32 = 2;
 /// actions) goes to a small heap beside it. (On build_b50_a8, perf put about a third of an
 /// evaluation's samples in the bucket heaps' sifting.) Costs from [`BucketQueue::BUCKETS`] on go to one binary
 /// heap.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 struct BucketQueue {
     buckets: Vec<Vec<u32>>,
     /// The lowest bucket that may be non-empty.

@@ -30,6 +30,7 @@ enum Truth {
 }
 
 /// The landmarks of a task and their orderings.
+#[derive(Clone)]
 pub(super) struct Landmarks {
     truth: Vec<Truth>,
     /// For each landmark, the landmarks naturally ordered before it.

@@ -41,14 +41,14 @@ use crate::ir::task::{ConstId, LiteralPattern, Pattern, PredId, Schema, State, T
 use crate::ir::unify::unifiable;
 
 /// A relation read by a rule or a goal: a predicate, restricted to some argument positions.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct View {
     /// The argument positions kept, ascending.
     keep: Box<[u32]>,
 }
 
 /// A body literal: a view and the patterns at its kept positions.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct BodyLiteral {
     view: u32,
     args: Box<[Pattern]>,
@@ -69,7 +69,7 @@ struct JoinStep {
 /// end of a move onto a table block (`moving`, `ontable(B2, X2, Y2)`, `clear(B2)`), looking
 /// up `ontable` by both coordinates instead of the first alone took the 100-block set-up
 /// from 13.8 million candidates to 0.8 million.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Index {
     positions: Box<[u32]>,
     tuples: FxHashMap<u64, Vec<u32>>,
@@ -86,7 +86,7 @@ fn index_key(hasher: &FxBuildHasher, values: impl Iterator<Item = ConstId>) -> u
 }
 
 /// A schema as a relaxed rule.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Rule {
     schema: u32,
     vars: usize,
@@ -118,7 +118,7 @@ type FilterSteps = Box<[Box<[u32]>]>;
 /// engine for each. In the standard blocks world, the end of a move onto a block asks
 /// `on(B, B2, X, Y)` of the problem's goal: 820,200 instantiations on a 100-block problem,
 /// of which 20 pass.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct FactFilter {
     /// The goal's variables the body binds, in order.
     vars: Box<[u32]>,
@@ -155,7 +155,7 @@ const FACT_FILTER_LIMIT: usize = 100_000;
 /// with one excluded variable `E` and one other variable `O` that is bound when the condition
 /// runs (it occurs in the body or an earlier OnKB condition, and in no later one): then the
 /// condition says "the tuple of the `E`s differs from the tuple of the `O`s".
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Exclusion {
     /// The body literal (an index into the rule's body).
     literal: u32,
@@ -184,7 +184,7 @@ enum Support {
 }
 
 /// The tuples of one view during an evaluation.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Table {
     arity: usize,
     values: Vec<ConstId>,
@@ -308,6 +308,7 @@ pub struct PlanAction {
 }
 
 /// The relaxed task and the scratch space to evaluate it, state after state.
+#[derive(Clone)]
 pub struct Relaxation {
     views: Vec<View>,
     views_of_pred: FxHashMap<PredId, Vec<u32>>,
@@ -412,6 +413,7 @@ enum Part {
 
 /// Distinct keys numbered in order of first use: the map to their numbers, and the keys by
 /// number.
+#[derive(Clone)]
 struct Numbered<K> {
     numbers: FxHashMap<K, u32>,
     list: Vec<K>,
@@ -434,6 +436,7 @@ impl<K: std::hash::Hash + Eq + Clone> Numbered<K> {
 }
 
 /// The rule instantiations of a full exploration, recorded to build a [`GroundTask`].
+#[derive(Clone)]
 struct Recorder {
     /// The instantiations recorded so far, as indices into `actions` hashed by their rule and
     /// bindings (the bindings are stored once, in the action).

@@ -206,7 +206,7 @@ type GoalPositions = std::rc::Rc<[Box<[u32]>]>;
 ///
 /// Keys and solutions live in two arenas, so a cache of millions of queries (the relaxed
 /// exploration of 100 blocks asks that many) is a few large allocations, freed at once.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct OnKbCache {
     /// Per schema: its OnKB variables, in order.
     vars: Vec<Box<[u32]>>,
@@ -558,13 +558,12 @@ pub struct Successors<'p> {
 impl<'p> Successors<'p> {
     /// A generator for `task`, proving OnKB goals with `machine`.
     pub fn new(task: &Task, machine: Machine<'p>) -> Successors<'p> {
-        Successors {
-            machine,
-            cache: OnKbCache::new(task),
-            bindings: Vec::new(),
-            trail: Vec::new(),
-            ignore_invalid: false,
-        }
+        Successors::with_cache(machine, OnKbCache::new(task))
+    }
+
+    /// A generator that starts with the OnKB answers of `cache` (made for the same task).
+    pub fn with_cache(machine: Machine<'p>, cache: OnKbCache) -> Successors<'p> {
+        Successors { machine, cache, bindings: Vec::new(), trail: Vec::new(), ignore_invalid: false }
     }
 
     /// The engine and the OnKB cache, for the heuristic's relaxed exploration.

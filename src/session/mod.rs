@@ -366,6 +366,9 @@ pub struct Session {
     /// Per problem: its planning task.
     tasks: Vec<Option<Task>>,
     searches: Vec<(usize, PlanSettings, SearchResult)>,
+    /// The set-up of the last heuristic search, for the next search of the same task (the
+    /// lookahead's second search and `--improve`'s restarts); dropped once a plan is made.
+    prepared: Option<planner::Prepared>,
     plans: Vec<(usize, PlanSettings, Rc<Planned>)>,
     /// Per high-level problem, its arm-level problem's index ([`Session::arm_problem`]).
     arm_problems: Vec<(usize, usize)>,
@@ -417,6 +420,7 @@ impl Session {
             programs: Vec::new(),
             tasks: Vec::new(),
             searches: Vec::new(),
+            prepared: None,
             plans: Vec::new(),
             reassigned: None,
             arm_problems: Vec::new(),
@@ -602,11 +606,12 @@ impl Session {
         let task = &mut crate::passes::task::build(kb, problem);
         let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
         let scored = settings.scored();
+        let prepared = &mut self.prepared;
         let outcome = timing::time(
             "search",
             || {
                 let scorer = scored.then_some(&mut scorer as &mut dyn planner::Score);
-                planner::search_scored(kb, interner, task, &options, scorer, progress)
+                planner::search_prepared(kb, interner, task, &options, scorer, prepared, progress)
             },
             |outcome| {
                 let found = match &outcome.result {
@@ -614,7 +619,8 @@ impl Session {
                     Err(_) => "no plan".to_string(),
                 };
                 let setup = outcome.stats.setup.as_secs_f64();
-                format!("{found}; set-up {setup:.3} s; {}", stats_line(&outcome.stats))
+                let kept = if outcome.stats.setup_kept { " (kept from the search before)" } else { "" };
+                format!("{found}; set-up {setup:.3} s{kept}; {}", stats_line(&outcome.stats))
             },
         );
         if let Some(best) = scorer.best {
@@ -725,6 +731,7 @@ impl Session {
                     (searched.plans.clone(), origin.to_string(), Some(searched.stats))
                 }
                 Err(failed) => {
+                    self.prepared = None;
                     let diagnostic = self.search_failure(problem, &failed, &stats_line(&failed.stats), settings);
                     self.diagnostics.push(diagnostic);
                     return Err(PlanError::Search(failed));
@@ -733,7 +740,8 @@ impl Session {
         };
         // A grounding of `problem` (W0015) when its initial facts have variables.
         let ground = plans.first().map_or(problem, |plan| plan.problem);
-        let planned = self.schedule_best(ground, plans, origin, stats, settings)?;
+        let planned =
+            self.schedule_best(ground, plans, origin, stats, settings).inspect_err(|_| self.prepared = None)?;
         let spent = stats.map_or(0, |s| s.expanded);
         // (The time the first search spent improving on its first plan, scoring them all.)
         let improving = stats.and_then(|s| s.first_found.map(|first| s.elapsed.saturating_sub(first)));
@@ -745,6 +753,7 @@ impl Session {
             settings,
             progress,
         ));
+        self.prepared = None;
         self.plans.push((problem, settings.clone(), planned.clone()));
         Ok(planned)
     }
@@ -756,7 +765,9 @@ impl Session {
     /// plan (so the same input always gives the same plan). (It once ran
     /// only after 300 expansions or more; run always, it is shorter on 30 more of the ladder's
     /// 126 rungs of up to 30 blocks, seeds 1-3, 8 of the 12 grid rungs among them, and takes
-    /// up to about 0.8 s more on a grid rung, most of it grounding the relaxation again.) With
+    /// up to about 0.8 s more on a grid rung, most of it grounding the relaxation again; it
+    /// now starts from the first search's set-up, `planner::Prepared`: 0.51 -> 0.11 s on
+    /// grid_b20_a3_s3.) With
     /// `--improve` it runs as it would without, so that improving never ends with a longer
     /// makespan than the default run (it had: build_b25_a6 35 by default, 46 with `--improve
     /// 1`). Plans from `--no-reassign`, the paper's search or a plan file are kept as they are.
