@@ -1236,7 +1236,7 @@ fn the_ladders_expansions_count_every_search_the_plan_ran() {
 /// fresh one grounds its own: the plans and expansions are the same.
 #[test]
 fn a_search_does_not_depend_on_the_searches_before_it() {
-    use kbc::session::{PlanSettings, Session};
+    use kbc::session::PlanSettings;
     for rung in [
         Rung { family: Family::Grid, blocks: 15, arms: 3, seed: 2 },
         Rung { family: Family::Reverse, blocks: 8, arms: 3, seed: 1 },
@@ -1248,17 +1248,31 @@ fn a_search_does_not_depend_on_the_searches_before_it() {
             PlanSettings { lookahead: Lookahead::On, ..first.clone() },
             PlanSettings { tie_seed: Some(1), ..first.clone() },
         ] {
-            let mut used = Session::from_text(&name, rung.source());
-            used.search(0, &first, &mut Silent).expect("a plan");
-            let again = used.search(0, &later, &mut Silent).expect("a plan");
-            let mut fresh = Session::from_text(&name, rung.source());
-            let alone = fresh.search(0, &later, &mut Silent).expect("a plan");
-            assert!(again.stats.setup_kept && !alone.stats.setup_kept, "{name}");
-            assert_eq!(again.plans, alone.plans, "{name}");
-            assert_eq!(again.stats.expanded, alone.stats.expanded, "{name}");
-            assert_eq!(again.stats.generated, alone.stats.generated, "{name}");
+            searched_after_as_alone(&name, &rung.source(), &first, &later);
         }
     }
+}
+
+/// The search `later` in a session that ran `first` before it, checked to start from the
+/// set-up `first` kept and to plan, expand and generate as `later` alone in a fresh session
+/// (which grounds its own).
+fn searched_after_as_alone(
+    name: &str,
+    source: &str,
+    first: &kbc::session::PlanSettings,
+    later: &kbc::session::PlanSettings,
+) -> std::rc::Rc<kbc::session::Searched> {
+    use kbc::session::Session;
+    let mut used = Session::from_text(name, source.to_string());
+    used.search(0, first, &mut Silent).expect("a plan");
+    let again = used.search(0, later, &mut Silent).expect("a plan");
+    let mut fresh = Session::from_text(name, source.to_string());
+    let alone = fresh.search(0, later, &mut Silent).expect("a plan");
+    assert!(again.stats.setup_kept && !alone.stats.setup_kept, "{name}");
+    assert_eq!(again.plans, alone.plans, "{name}");
+    assert_eq!(again.stats.expanded, alone.stats.expanded, "{name}");
+    assert_eq!(again.stats.generated, alone.stats.generated, "{name}");
+    again
 }
 
 /// A kept set-up carries the task as grounding left it: here the OnKB goals compute the
@@ -1266,7 +1280,7 @@ fn a_search_does_not_depend_on_the_searches_before_it() {
 /// search must take them with the relaxation and the answers that name them.
 #[test]
 fn a_kept_set_up_carries_the_constants_grounding_made() {
-    use kbc::session::{PlanSettings, Session};
+    use kbc::session::PlanSettings;
     let source = "action(inc_start(N, M), [count(N)], [], [], [N < 6, M is N + 1],
     [del(count(N)), add(incrementing(N, M))]).
 action(inc_end(N, M), [incrementing(N, M)], [], [], [], [del(incrementing(N, M)), add(count(M))]).
@@ -1275,12 +1289,6 @@ counter :- go([count(0)], [count(6)]).
 ";
     let first = PlanSettings { timeout: Some(Duration::from_secs(60)), ..Default::default() };
     let later = PlanSettings { tie_seed: Some(2), lookahead: Lookahead::On, ..first.clone() };
-    let mut used = Session::from_text("counter.pl", source.to_string());
-    used.search(0, &first, &mut Silent).expect("a plan");
-    let again = used.search(0, &later, &mut Silent).expect("a plan");
-    let mut fresh = Session::from_text("counter.pl", source.to_string());
-    let alone = fresh.search(0, &later, &mut Silent).expect("a plan");
-    assert!(again.stats.setup_kept && !alone.stats.setup_kept);
-    assert_eq!(again.plans, alone.plans);
+    let again = searched_after_as_alone("counter.pl", source, &first, &later);
     assert_eq!(again.plans[0].steps.len(), 12);
 }

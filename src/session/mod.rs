@@ -367,7 +367,7 @@ pub struct Session {
     tasks: Vec<Option<Task>>,
     searches: Vec<(usize, PlanSettings, SearchResult)>,
     /// The set-up of the last heuristic search, for the next search of the same task (the
-    /// lookahead's second search and `--improve`'s restarts); dropped once a plan is made.
+    /// lookahead's second search and `--improve`'s restarts); dropped when `plan` ends.
     prepared: Option<planner::Prepared>,
     plans: Vec<(usize, PlanSettings, Rc<Planned>)>,
     /// Per high-level problem, its arm-level problem's index ([`Session::arm_problem`]).

@@ -213,22 +213,6 @@ fn change(from: i64, to: i64) -> String {
 /// changes they made ([`relocations`], [`detours`], [`merges`]).
 type Step = fn(&mut Rearranging<'_, '_>, (crate::ir::plan::Plan, Timed)) -> (crate::ir::plan::Plan, Timed, usize);
 
-/// `step` as a pass of its own in `-v`'s list, named `name`, its line saying the makespan before
-/// and after and how many changes it made (`what`: "starts relocated").
-fn pass(
-    cx: &mut Rearranging<'_, '_>,
-    (name, what): (&'static str, &str),
-    step: Step,
-    (plan, timed): (crate::ir::plan::Plan, Timed),
-) -> (crate::ir::plan::Plan, Timed, usize) {
-    let before = timed.schedule.makespan;
-    super::timing::time(
-        name,
-        || step(cx, (plan, timed)),
-        |(_, timed, made)| format!("{}, {made} {what}", change(before, timed.schedule.makespan)),
-    )
-}
-
 /// Per pass of [`reassign`]'s cycles (by name), the plan it last left as it was given. The
 /// passes are deterministic, so given that plan again a pass would leave it so again: it is
 /// not run (reverse_b75_a10_s1: the second cycle's merge, 0.41 s of 2.9, found nothing the
@@ -239,8 +223,9 @@ struct Settled {
 }
 
 impl Settled {
-    /// [`pass`] `step`, named `name` (its changes counted as `what`), unless the plan is one
-    /// it left as it was.
+    /// `step` as a pass of its own in `-v`'s list, named `name`, its line saying the makespan
+    /// before and after and how many changes it made (`what`: "starts relocated"); not run on
+    /// a plan it left as it was.
     fn pass(
         &mut self,
         cx: &mut Rearranging<'_, '_>,
@@ -250,8 +235,12 @@ impl Settled {
         if self.plans.iter().any(|(n, p)| *n == name && *p == plan) {
             return (plan, timed, 0);
         }
-        let given = plan.clone();
-        let (plan, timed, made) = pass(cx, (name, what), step, (plan, timed));
+        let (given, before) = (plan.clone(), timed.schedule.makespan);
+        let (plan, timed, made) = super::timing::time(
+            name,
+            || step(cx, (plan, timed)),
+            |(_, timed, made)| format!("{}, {made} {what}", change(before, timed.schedule.makespan)),
+        );
         self.plans.retain(|(n, _)| *n != name);
         if plan == given {
             self.plans.push((name, given));
