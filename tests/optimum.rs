@@ -1,0 +1,404 @@
+//! An exact reference for the ladder's makespans: the least makespan of the small rungs,
+//! found by a search of its own over the timed semantics of std/blocks.pl, and kbc's proven
+//! lower bound and plans held against it.
+//!
+//! `kbc bench` prints a lower bound next to every makespan (`ladder::LowerBound`); until now
+//! the only check of that bound was that kbc's own plans never beat it, which a bound far
+//! above the optimum of a rung kbc plans badly would pass. This file finds the optimum itself.
+//!
+//! The reference reads the rung's goal file (its `cell/2` facts and the `go/2` lists) and knows
+//! std/blocks.pl as its text says, written again here: the arms grip a clear block (not one
+//! standing where the goal wants it), move it to another cell (its goal cell, or a buffer cell
+//! the goal leaves empty), put it on the table there when no block stands on that cell, or on
+//! the top block when the goal stacks it on that block (not one being gripped), and release
+//! it. Grip and release take one to two time units, a move the Manhattan distance plus one and
+//! more without limit. It shares no code with kbc's planner.
+//!
+//! The search runs in whole time units with the separation of ordered snap actions taken as
+//! zero (events at one instant happen in an order, each seeing the ones before): a state is
+//! where every block is and what every arm does and for how long, arms sorted (they are
+//! interchangeable); an event costs nothing and a tick of the clock one unit. It is A*: the
+//! estimate of the time left is the most any one block still needs an arm for (a whole cycle to
+//! its goal cell, two when it must leave its goal cell and come back), or all blocks' needs
+//! shared by the arms, whichever is more; both are at most the time left. With whole durations
+//! an optimal schedule has whole times, so this finds the optimum with the separation at zero:
+//! no plan kbc may output is shorter, and kbc's lower bound, which counts durations only, may
+//! not exceed it.
+//!
+//! `cargo test` checks the rungs of 2 to 4 blocks of three seeds (about 11 s in a debug
+//! build); `KBC_OPTIMUM_BLOCKS=6 cargo test --release --test optimum -- --nocapture` goes to
+//! 6 blocks (about 2 minutes) and prints each rung's optimum, bound and plan.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+use std::time::{Duration, Instant};
+
+use kbc::ladder::{self, Family, Rung};
+use kbc::planner::{Budget, SearchKind};
+
+// ---------------------------------------------------------------------------------------------
+// The problem, as the goal file states it.
+
+type Cell = (i64, i64);
+
+/// Where a block stands: on the table at a cell, or on another block (and its cell).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Loc {
+    Table(u8),
+    On(u8, u8),
+    /// In the air: an arm carries it.
+    Air,
+}
+
+impl Loc {
+    fn cell(self) -> Option<u8> {
+        match self {
+            Loc::Table(c) | Loc::On(_, c) => Some(c),
+            Loc::Air => None,
+        }
+    }
+}
+
+struct Problem {
+    cells: Vec<Cell>,
+    arms: usize,
+    init: Vec<Loc>,
+    /// Each block's place in the goal (every block of a ladder rung has one).
+    goal: Vec<Loc>,
+    /// Cells the goal leaves empty: where blocks may be put aside.
+    buffer: Vec<bool>,
+}
+
+/// The arguments of each `name(...)` fact in `text`, split at commas.
+fn facts<'t>(text: &'t str, name: &str) -> Vec<Vec<&'t str>> {
+    let pattern = format!("{name}(");
+    let mut out = Vec::new();
+    let mut rest = text;
+    while let Some(at) = rest.find(&pattern) {
+        let preceded = rest[..at].chars().last().is_some_and(|c| c.is_alphanumeric() || c == '_');
+        let args = &rest[at + pattern.len()..];
+        let close = args.find(')').expect("a closing parenthesis");
+        if !preceded {
+            out.push(args[..close].split(',').map(str::trim).collect());
+        }
+        rest = &args[close..];
+    }
+    out
+}
+
+fn parse(source: &str) -> Problem {
+    let number = |s: &str| s.parse::<i64>().expect("a number");
+    let block = |s: &str| s.strip_prefix('b').expect("a block").parse::<usize>().expect("a block number") - 1;
+    let cells: Vec<Cell> = facts(source, "cell").iter().map(|a| (number(a[0]), number(a[1]))).collect();
+    let (_, test) = source.split_once(":- go(").expect("a go/2 test");
+    let (init_text, goal_text) = test.split_once("],").expect("two lists");
+    let arms = facts(init_text, "available").len();
+    let blocks = facts(init_text, "ontable").len() + facts(init_text, "on").len();
+    let places = |text: &str| -> Vec<Loc> {
+        let mut at = vec![Loc::Air; blocks];
+        let cell = |x: &str, y: &str| cells.iter().position(|&c| c == (number(x), number(y))).expect("a cell") as u8;
+        for a in facts(text, "ontable") {
+            at[block(a[0])] = Loc::Table(cell(a[1], a[2]));
+        }
+        for a in facts(text, "on") {
+            at[block(a[0])] = Loc::On(block(a[1]) as u8, cell(a[2], a[3]));
+        }
+        assert!(!at.contains(&Loc::Air), "every block placed");
+        at
+    };
+    let (init, goal) = (places(init_text), places(goal_text));
+    let buffer = (0..cells.len()).map(|c| !goal.iter().any(|l| l.cell() == Some(c as u8))).collect();
+    Problem { cells, arms, init, goal, buffer }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The timed semantics of std/blocks.pl.
+
+/// What an arm does. `el` is the time elapsed in a grip or release (at most 2); `left` the
+/// least time a move still takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Arm {
+    Idle,
+    Gripping { block: u8, el: u8 },
+    Gripped { block: u8 },
+    Moving { block: u8, to: u8, left: u8 },
+    Placed { block: u8 },
+    Releasing { block: u8, el: u8 },
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+struct State {
+    at: Vec<Loc>,
+    arms: Vec<Arm>,
+}
+
+impl Problem {
+    fn distance(&self, a: u8, b: u8) -> i64 {
+        let (p, q) = (self.cells[a as usize], self.cells[b as usize]);
+        (p.0 - q.0).abs() + (p.1 - q.1).abs()
+    }
+
+    /// `clear(B)`: nothing stands on it and no arm holds it (from the grip's end to the
+    /// release's end).
+    fn clear(&self, s: &State, b: u8) -> bool {
+        let on_it = s.at.iter().any(|l| matches!(l, Loc::On(below, _) if *below == b));
+        let held = s.arms.iter().any(|a| match *a {
+            Arm::Gripped { block }
+            | Arm::Moving { block, .. }
+            | Arm::Placed { block }
+            | Arm::Releasing { block, .. } => block == b,
+            _ => false,
+        });
+        !on_it && !held
+    }
+
+    fn gripping(&self, s: &State, b: u8) -> bool {
+        s.arms.iter().any(|a| matches!(*a, Arm::Gripping { block, .. } if block == b))
+    }
+
+    /// The states one snap action leads to.
+    fn events(&self, s: &State, out: &mut Vec<State>) {
+        for (i, &arm) in s.arms.iter().enumerate() {
+            // Arms in the same situation give the same states: the first of them only.
+            if s.arms[..i].contains(&arm) {
+                continue;
+            }
+            let with = |arm: Arm, at: Option<(u8, Loc)>| {
+                let mut next = s.clone();
+                next.arms[i] = arm;
+                if let Some((b, loc)) = at {
+                    next.at[b as usize] = loc;
+                }
+                next.arms.sort_unstable();
+                next
+            };
+            match arm {
+                Arm::Idle => {
+                    for b in 0..s.at.len() as u8 {
+                        let loc = s.at[b as usize];
+                        let standing = loc != Loc::Air;
+                        let gripped = s.arms.iter().any(|a| matches!(*a, Arm::Gripped { block } if block == b));
+                        // (InvalidAtEnd: not a block that stands where the goal wants it.)
+                        if standing
+                            && self.clear(s, b)
+                            && !self.gripping(s, b)
+                            && !gripped
+                            && loc != self.goal[b as usize]
+                        {
+                            out.push(with(Arm::Gripping { block: b, el: 0 }, None));
+                        }
+                    }
+                }
+                Arm::Gripping { block, el } if el >= 1 => out.push(with(Arm::Gripped { block }, None)),
+                Arm::Gripped { block } => {
+                    let from = s.at[block as usize].cell().expect("a gripped block stands");
+                    for to in 0..self.cells.len() as u8 {
+                        let goal_cell = self.goal[block as usize].cell() == Some(to);
+                        if to != from && (goal_cell || self.buffer[to as usize]) {
+                            let left = (self.distance(from, to) + 1) as u8;
+                            out.push(with(Arm::Moving { block, to, left }, Some((block, Loc::Air))));
+                        }
+                    }
+                }
+                Arm::Moving { block, to, left: 0 } => {
+                    let standing: Vec<u8> =
+                        (0..s.at.len() as u8).filter(|&b| s.at[b as usize].cell() == Some(to)).collect();
+                    if standing.is_empty() {
+                        // On the table: where the goal wants it, or on a buffer cell.
+                        let place = Loc::Table(to);
+                        if self.goal[block as usize] == place || self.buffer[to as usize] {
+                            out.push(with(Arm::Placed { block }, Some((block, place))));
+                        }
+                    } else if let Some(&top) = standing.iter().find(|&&b| self.clear(s, b)) {
+                        // On the top block, where the goal stacks it there.
+                        let place = Loc::On(top, to);
+                        if !self.gripping(s, top) && self.goal[block as usize] == place {
+                            out.push(with(Arm::Placed { block }, Some((block, place))));
+                        }
+                    }
+                }
+                Arm::Placed { block } => out.push(with(Arm::Releasing { block, el: 0 }, None)),
+                Arm::Releasing { el, .. } if el >= 1 => out.push(with(Arm::Idle, None)),
+                _ => {}
+            }
+        }
+    }
+
+    /// The state a time unit later, if nothing overruns its maximum duration (2 for a grip or
+    /// a release) and something runs.
+    fn tick(&self, s: &State) -> Option<State> {
+        let mut next = s.clone();
+        let mut runs = false;
+        for arm in &mut next.arms {
+            match arm {
+                Arm::Gripping { el, .. } | Arm::Releasing { el, .. } => {
+                    if *el >= 2 {
+                        return None;
+                    }
+                    *el += 1;
+                    runs = true;
+                }
+                Arm::Moving { left, .. } if *left > 0 => {
+                    *left -= 1;
+                    runs = true;
+                }
+                _ => {}
+            }
+        }
+        next.arms.sort_unstable();
+        runs.then_some(next)
+    }
+
+    /// The least time block `b` still needs an arm for, alone: a whole cycle (grip, move,
+    /// release) to its goal cell from where it stands, or two, off the cell and back, when it
+    /// stands on its goal cell on the wrong block; less what its arm has done of them.
+    fn remaining(&self, s: &State, b: u8) -> i64 {
+        let goal = self.goal[b as usize];
+        let gc = goal.cell().expect("a goal place");
+        let cycle = |from: u8| self.distance(from, gc) + 3;
+        let round_trip = |c: u8| {
+            let nearest = (0..self.cells.len() as u8).filter(|&d| d != c).map(|d| self.distance(c, d)).min();
+            nearest.map_or(0, |d| 2 * d + 6)
+        };
+        // From a place, standing: what is left to do.
+        let from = |loc: Loc| match loc.cell() {
+            _ if loc == goal => 0,
+            Some(c) if c == gc => round_trip(c),
+            Some(c) => cycle(c),
+            None => 0,
+        };
+        for arm in &s.arms {
+            match *arm {
+                Arm::Gripping { block, el } if block == b => return from(s.at[b as usize]) - i64::from(el.min(1)),
+                Arm::Gripped { block } if block == b => return from(s.at[b as usize]) - 1,
+                Arm::Moving { block, to, left } if block == b => {
+                    return i64::from(left) + 1 + if to == gc { 0 } else { cycle(to) };
+                }
+                Arm::Placed { block } if block == b => return 1 + from(s.at[b as usize]),
+                Arm::Releasing { block, el } if block == b => {
+                    return (1 - i64::from(el)).max(0) + from(s.at[b as usize]);
+                }
+                _ => {}
+            }
+        }
+        from(s.at[b as usize])
+    }
+
+    /// A lower bound on the time left from `s` (so the search is A*): the most one block
+    /// needs, and all blocks' needs shared by the arms.
+    fn estimate(&self, s: &State) -> u32 {
+        let needs: Vec<i64> = (0..s.at.len() as u8).map(|b| self.remaining(s, b)).collect();
+        let arms = self.arms.max(1) as i64;
+        let shared = (needs.iter().sum::<i64>() + arms - 1) / arms;
+        needs.iter().copied().max().unwrap_or(0).max(shared) as u32
+    }
+
+    fn goal_reached(&self, s: &State) -> bool {
+        s.at == self.goal && s.arms.iter().all(|a| *a == Arm::Idle)
+    }
+
+    /// The least makespan, in whole time units, or None if more than `limit` states were
+    /// settled first.
+    fn optimum(&self, limit: usize) -> Option<i64> {
+        let start = State { at: self.init.clone(), arms: vec![Arm::Idle; self.arms] };
+        let mut best: HashMap<State, u32> = HashMap::new();
+        let mut open = BinaryHeap::new();
+        best.insert(start.clone(), 0);
+        open.push(Reverse((self.estimate(&start), 0u32, start)));
+        let mut settled = 0;
+        let mut next = Vec::new();
+        while let Some(Reverse((_, ticks, state))) = open.pop() {
+            if best.get(&state).is_some_and(|&known| known < ticks) {
+                continue;
+            }
+            if self.goal_reached(&state) {
+                return Some(ticks as i64);
+            }
+            settled += 1;
+            if settled > limit {
+                return None;
+            }
+            next.clear();
+            self.events(&state, &mut next);
+            let mut push = |s: State, cost: u32| {
+                if best.get(&s).is_none_or(|&known| cost < known) {
+                    best.insert(s.clone(), cost);
+                    open.push(Reverse((cost + self.estimate(&s), cost, s)));
+                }
+            };
+            for s in next.drain(..) {
+                push(s, ticks);
+            }
+            if let Some(s) = self.tick(&state) {
+                push(s, ticks + 1);
+            }
+        }
+        None
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks.
+
+/// The states the reference may settle on one rung.
+const LIMIT: usize = 20_000_000;
+
+fn rungs(most_blocks: usize) -> Vec<Rung> {
+    let mut rungs = Vec::new();
+    for seed in 1..=3 {
+        for family in [Family::Build, Family::Reverse, Family::Swap] {
+            for (blocks, arms) in ladder::SIZES.iter().copied().filter(|&(b, _)| b <= most_blocks) {
+                rungs.push(Rung { family, blocks, arms, seed });
+            }
+        }
+    }
+    rungs
+}
+
+#[test]
+fn the_reference_finds_the_optimum_of_a_hand_solved_problem() {
+    // One block on (1, 1) goes to (3, 1), two cells away, with one arm: grip (1), move (3),
+    // release (1). Two blocks swapped between (1, 1) and (2, 1) with a buffer cell (3, 1) and
+    // two arms: b1 can only go to its goal once b2 has left (2, 1), and b2 to (1, 1) once b1
+    // has left it, so one of them waits aside or in the air. Holding b1 in the air over (2, 1)
+    // while b2 moves: b1 gripped at 0-1 and lifted at 1, b2 gripped at 0-1 and lifted at 1; b2
+    // reaches (1, 1) at 3 (b1 left it at 1) and b1 reaches (2, 1) at 3: both released at 4.
+    let one = "cell(1, 1).\ncell(2, 1).\ncell(3, 1).\nt :- go(\n  [\n    available(a1),\n    ontable(b1, 1, 1),\n    clear(b1)\n  ],\n  [\n    available(a1),\n    ontable(b1, 3, 1),\n    clear(b1)\n  ]\n).\n";
+    assert_eq!(parse(one).optimum(LIMIT), Some(5));
+    let swap = "cell(1, 1).\ncell(2, 1).\ncell(3, 1).\nt :- go(\n  [\n    available(a1),\n    available(a2),\n    ontable(b1, 1, 1),\n    ontable(b2, 2, 1)\n  ],\n  [\n    available(a1),\n    available(a2),\n    ontable(b1, 2, 1),\n    ontable(b2, 1, 1)\n  ]\n).\n";
+    assert_eq!(parse(swap).optimum(LIMIT), Some(4));
+    // With one arm, one block goes aside first: to (3, 1) and on to (1, 1), or b1 aside.
+    // b2 (2,1)->(3,1): 1 + 2 + 1; b1 (1,1)->(2,1): 1 + 2 + 1; b2 (3,1)->(1,1): 1 + 3 + 1.
+    let one_arm = swap.replace("    available(a2),\n", "");
+    assert_eq!(parse(&one_arm).optimum(LIMIT), Some(13));
+}
+
+#[test]
+fn the_proven_bound_never_exceeds_the_optimum_and_no_plan_beats_it() {
+    let most: usize = std::env::var("KBC_OPTIMUM_BLOCKS").ok().and_then(|v| v.parse().ok()).unwrap_or(4);
+    let unit = kbc::ir::stn::UNITS;
+    let mut below = 0;
+    let rungs = rungs(most);
+    for rung in &rungs {
+        let problem = parse(&rung.source());
+        let Some(optimum) = problem.optimum(LIMIT) else {
+            panic!("{}: the reference settled {LIMIT} states without the optimum", rung.name());
+        };
+        let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
+        let row = ladder::run(rung, SearchKind::Heuristic, budget, None);
+        let ((makespan, _), bound) = (row.makespan.expect("solved"), row.lower_bound.expect("a bound"));
+        println!(
+            "{:<20} optimum {:>3}  bound {:>7.3}  plan {:>7.3}",
+            rung.name(),
+            optimum,
+            bound.makespan as f64 / unit as f64,
+            makespan as f64 / unit as f64
+        );
+        // The bound counts durations only: it holds with the separation at zero.
+        assert!(bound.makespan <= optimum * unit, "{}: bound {bound:?} above the optimum {optimum}", rung.name());
+        assert!(makespan >= optimum * unit, "{}: a plan of {makespan} beats the optimum {optimum}", rung.name());
+        below += usize::from(bound.makespan < optimum * unit);
+    }
+    // And the reference is not the bound again: it finds more on some rungs.
+    assert!(below > 0, "the optimum equals the bound on all {} rungs", rungs.len());
+}
