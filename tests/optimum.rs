@@ -402,3 +402,20 @@ fn the_proven_bound_never_exceeds_the_optimum_and_no_plan_beats_it() {
     // And the reference is not the bound again: it finds more on some rungs.
     assert!(below > 0, "the optimum equals the bound on all {} rungs", rungs.len());
 }
+
+#[test]
+fn a_block_sent_to_a_cell_being_cleared_makes_the_optimum_of_a_corner_tower() {
+    // reverse_b03_a3_s3: the tower b3, b1, b2 on (5, 1), the corner of a row of five cells,
+    // turned upside down by three arms. Its optimum puts every block down on (4, 1), the one
+    // neighbouring cell, in turn: each one's move heads there while the block before it still
+    // stands there and arrives as that one leaves. Spread over (4, 1), (3, 1) and (2, 1), as the
+    // search and the plain relocations leave it, the plan takes two units more.
+    let rung = Rung { family: Family::Reverse, blocks: 3, arms: 3, seed: 3 };
+    let optimum = parse(&rung.source()).optimum(LIMIT).expect("an optimum");
+    let budget = Budget { deadline: Some(Instant::now() + Duration::from_secs(60)), ..Budget::default() };
+    let row = ladder::run(&rung, SearchKind::Heuristic, budget, None);
+    let (makespan, _) = row.makespan.expect("solved");
+    let unit = kbc::ir::stn::UNITS;
+    // (Within the separations of ordered snap actions, thousandths of a unit each.)
+    assert!(makespan < (optimum + 1) * unit, "a makespan of {makespan} against the optimum {optimum}");
+}

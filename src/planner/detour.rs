@@ -168,7 +168,11 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// wait, as in the plan). (Without the wait, a block that the search sent onto a
 /// neighbouring cell before the block there had left stayed there, its arm held for the
 /// whole wait, whatever cell was free.) A place given to a relocated unit stays its own until the
-/// unit leaves, since the plan's other starts may count on it. A later step that no longer
+/// unit leaves, since the plan's other starts may count on it. With the plan's schedule
+/// (`times`, each step's earliest time; empty for none), a start may also be sent to a place
+/// taken when it comes but left before its end, by a step of the plan (one not relocated) or
+/// by a unit this replay relocated there: its end waits until the place is free, and the cost
+/// counts that wait beyond its least duration (the leaving step's time less the start's). A later step that no longer
 /// applies is taken as the applicable instance named as it is (a grip where the block now
 /// stands), or named with a relocation's new values instead of its old ones (the end of the
 /// move, the move off the cell and its end). A step that still fails, or a relocatable start
@@ -185,7 +189,7 @@ pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    waits: &[i64],
+    (waits, times): (&[i64], &[i64]),
     cost: &mut dyn FnMut(usize, &Term) -> i64,
 ) -> Result<Rewritten, Failure> {
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
@@ -205,7 +209,8 @@ pub fn relocate(
         // After a few conflicts over places (the plan needs most of its places), every
         // start's place is its own while its unit is there.
         let protected = if attempt < BANS_BEFORE_PROTECTING { &[][..] } else { &places[..] };
-        match rewriter.replay(task, &path, &leaving, (&banned, protected), waits, cost) {
+        let timing = Timing { waits, times, places: &places };
+        match rewriter.replay(task, &path, &leaving, (&banned, protected), timing, cost) {
             Ok((steps, taken)) => return Ok(Rewritten { plan: plan_from(task, &steps), taken }),
             Err(Some((k, values))) => banned.entry(k).or_default().push(values),
             Err(None) => return Err(Failure::Plan),
@@ -214,7 +219,17 @@ pub fn relocate(
     Err(Failure::Plan)
 }
 
+/// What a [`relocate`] replay knows of the plan's schedule: for each step, how long its end
+/// waits beyond its least duration (a start) and its time; and the plan's places.
+#[derive(Clone, Copy)]
+struct Timing<'a> {
+    waits: &'a [i64],
+    times: &'a [i64],
+    places: &'a [Place],
+}
+
 /// A place a plan's start leaves its unit on, and while.
+#[derive(Clone)]
 struct Place {
     /// The start's family (its first member).
     family: usize,
@@ -295,9 +310,12 @@ impl Rewriter<'_, '_> {
         path: &[Applicable],
         leaving: &[Option<usize>],
         (banned, protected): (&FxHashMap<usize, Vec<Vec<Term>>>, &[Place]),
-        waits: &[i64],
+        timing: Timing<'_>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Result<(Vec<Applicable>, Vec<usize>), Option<(usize, Vec<Term>)>> {
+        let Timing { waits, times, places } = timing;
+        // The places of this replay's relocated starts, while their units are there.
+        let mut relocated: Vec<Place> = Vec::new();
         let mut state = task.init.clone();
         let mut out: Vec<Applicable> = Vec::with_capacity(path.len());
         let mut active: Vec<Moved> = Vec::new();
@@ -313,17 +331,50 @@ impl Rewriter<'_, '_> {
                 let own = self.chosen_values(task, path, k);
                 // The plan's own values also cost the wait their end had in its schedule.
                 let wait = waits.get(k).copied().unwrap_or(0).max(0);
-                let free = |family: usize, values: &[Term]| {
-                    let free = !reserved.iter().any(|(_, f, v)| *f == family && v == values)
-                        && (values == own
-                            || !protected.iter().any(|place| {
-                                place.family == family
-                                    && place.values == values
-                                    && place.from < leaves
-                                    && place.until > k
-                            }))
+                let end = self.end_index[k];
+                let free = |family: usize, values: &[Term]| -> Option<(i64, Option<i64>)> {
+                    let allowed = (values == own
+                        || !protected.iter().any(|place| {
+                            place.family == family && place.values == values && place.from < leaves && place.until > k
+                        }))
                         && banned.get(&k).is_none_or(|b| !b.iter().any(|v| v == values));
-                    free.then_some(if values == own { wait } else { 0 })
+                    if !allowed {
+                        return None;
+                    }
+                    let reserved = reserved.iter().any(|(_, f, v)| *f == family && v == values);
+                    if values == own {
+                        return (!reserved).then_some((wait, None));
+                    }
+                    // With the schedule's times: a place taken now (as the plan has it, or as
+                    // this replay relocated a unit there) but left before this start's end.
+                    // The move may head there and arrive once it is free, as a block in the
+                    // air waits above a cell being cleared; ready when its units leave in the
+                    // plan's schedule, after this start's time.
+                    if let (false, Some(end)) = (times.is_empty(), end) {
+                        let mut there = places
+                            .iter()
+                            .filter(|place| !taken.contains(&place.from))
+                            .chain(&relocated)
+                            .filter(|place| place.family == family && place.values == values)
+                            .filter(|place| place.from < k && place.until > k)
+                            .peekable();
+                        if there.peek().is_some() {
+                            let mut ready = Some(0);
+                            for place in there {
+                                let (left, now) = (times.get(place.until), times.get(k));
+                                ready = match (ready, left, now) {
+                                    (Some(ready), Some(left), Some(now)) if place.until < end => {
+                                        Some(ready.max(left - now))
+                                    }
+                                    _ => None,
+                                };
+                            }
+                            if let Some(ready) = ready {
+                                return Some((0, Some(ready)));
+                            }
+                        }
+                    }
+                    (!reserved).then_some((0, None))
                 };
                 let Some((step, old, new)) = self.cheapest(task, path, (k, leaves), &state, free, cost) else {
                     return Err(blame(&active, &self.names[k]));
@@ -340,6 +391,8 @@ impl Rewriter<'_, '_> {
                     // (Kept until the move off the new place has ended too: its end names
                     // the place it left.)
                     let retire = self.end_index[leaves].unwrap_or(leaves);
+                    let family = self.families[action.schema][0];
+                    relocated.push(Place { family, values: new.clone(), from: k, until: leaves });
                     active.push(Moved { start: k, old, new, retire });
                     taken.push(k);
                 }
@@ -410,15 +463,23 @@ impl Rewriter<'_, '_> {
         path: &[Applicable],
         (k, leaves): (usize, usize),
         state: &State,
-        free: impl Fn(usize, &[Term]) -> Option<i64>,
+        free: impl Fn(usize, &[Term]) -> Option<(i64, Option<i64>)>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
         let old = self.chosen_values(task, path, k);
         let family = self.families[path[k].schema][0];
         // The start that leaves from there, named with the values instead of the plan's.
         let (action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
+        let (own_action, own) = (task.schemas[path[k].schema].action, self.names[k].clone());
         let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
-            let extra = free(family, values)?;
+            let (mut extra, ready) = free(family, values)?;
+            if let Some(ready) = ready {
+                // A place still taken: the time it is free after the start, beyond the
+                // start's own least duration, is spent waiting.
+                let (functor, _) = own.callable()?;
+                let args = substituted(own.args(), &old, values).into_iter().next()?;
+                extra = (ready - cost(own_action, &Term::Compound(functor, args.into()))).max(0);
+            }
             let (functor, _) = next.callable()?;
             let args = substituted(next.args(), &old, values).into_iter().next()?;
             Some(extra.saturating_add(cost(action, &Term::Compound(functor, args.into()))))
@@ -428,7 +489,8 @@ impl Rewriter<'_, '_> {
         for (alternative, values) in ranked {
             // (The plan's own values may wait for their end, as they did in the plan.)
             let next = successors::apply(task, state, &alternative);
-            if values == old || self.end_of(task, &alternative, &end, &next).is_some() {
+            let later = free(family, &values).is_some_and(|(_, ready)| ready.is_some());
+            if values == old || later || self.end_of(task, &alternative, &end, &next).is_some() {
                 return Some((alternative, old, values));
             }
         }
