@@ -172,8 +172,8 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// (`times`, each step's earliest time; empty for none), a start may also be sent to a place
 /// taken when it comes but left before its end, by a step of the plan (one not relocated) or
 /// by a unit this replay relocated there: its end waits until the place is free, and the cost
-/// counts that wait beyond its least duration (the leaving step's time less the start's). A later step that no longer
-/// applies is taken as the applicable instance named as it is (a grip where the block now
+/// counts that wait beyond its least duration (the leaving step's time less the start's). A
+/// later step that no longer applies is taken as the applicable instance named as it is (a grip where the block now
 /// stands), or named with a relocation's new values instead of its old ones (the end of the
 /// move, the move off the cell and its end). A step that still fails, or a relocatable start
 /// with no instance left, blames the relocation whose new values it names (else the latest),
@@ -229,7 +229,6 @@ struct Timing<'a> {
 }
 
 /// A place a plan's start leaves its unit on, and while.
-#[derive(Clone)]
 struct Place {
     /// The start's family (its first member).
     family: usize,
@@ -359,18 +358,12 @@ impl Rewriter<'_, '_> {
                             .filter(|place| place.from < k && place.until > k)
                             .peekable();
                         if there.peek().is_some() {
-                            let mut ready = Some(0);
-                            for place in there {
-                                let (left, now) = (times.get(place.until), times.get(k));
-                                ready = match (ready, left, now) {
-                                    (Some(ready), Some(left), Some(now)) if place.until < end => {
-                                        Some(ready.max(left - now))
-                                    }
-                                    _ => None,
-                                };
-                            }
-                            if let Some(ready) = ready {
-                                return Some((0, Some(ready)));
+                            let ready = there.try_fold(0, |ready, place| {
+                                let (left, now) = (times.get(place.until)?, times.get(k)?);
+                                (place.until < end).then(|| ready.max(left - now))
+                            });
+                            if ready.is_some() {
+                                return Some((0, ready));
                             }
                         }
                     }

@@ -527,6 +527,8 @@ fn relocations_onto_cleared(
     relocated(cx, planned, true)
 }
 
+/// [`relocations`], or with `onto_cleared` [`relocations_onto_cleared`]: the relocated plan
+/// rescheduled and reassigned, kept when shorter.
 fn relocated(
     cx: &mut Rearranging<'_, '_>,
     (plan, timed): (crate::ir::plan::Plan, Timed),
