@@ -503,7 +503,13 @@ pub struct Merge {
 
 /// The merges `plan` offers ([`merge`]): each relocatable start with the start that takes
 /// what it moved on from there, when each is its job's only step between its start and end
-/// (`jobs` are the plan's, see [`crate::passes::reassign::jobs`]).
+/// (`jobs` are the plan's, see [`crate::passes::reassign::jobs`]), and the merged start (the
+/// first named with the second's chosen values) could apply where the first start is in the
+/// plan, but for its Invalid conditions (which a later state may lift: the merge holds it
+/// back until then). A block put aside and brought back to the cell it left cannot go
+/// straight there (a move must change the cell, an OnKB condition of std/blocks.pl);
+/// offered anyway, such a merge failed every set it was in, and on the larger reverse
+/// rungs most merges are such.
 pub fn merges(
     successors: &mut Successors<'_>,
     task: &mut Task,
@@ -512,17 +518,36 @@ pub fn merges(
 ) -> Result<Vec<Merge>, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
-    let alone = |start: usize| -> Option<usize> {
+    let alone = |rewriter: &Rewriter<'_, '_>, start: usize| -> Option<usize> {
         let end = rewriter.end_index[start]?;
         let job = jobs.job_of(start)?;
         (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
     };
-    Ok((0..path.len())
-        .filter_map(|first| {
-            let second = leaving[first]?;
-            (alone(first)? != alone(second)?).then_some(Merge { first, second })
-        })
-        .collect())
+    let mut offered = Vec::new();
+    let mut state = task.init.clone();
+    for (first, action) in path.iter().enumerate() {
+        if let Some(second) = leaving[first]
+            && alone(&rewriter, first).zip(alone(&rewriter, second)).is_some_and(|(j1, j2)| j1 != j2)
+            && let Some(merged) = merged_start(task, action, &rewriter.names[second])
+            && rewriter.successors.applies_but_for_invalid(task, &merged, &state) == Ok(true)
+        {
+            offered.push(Merge { first, second });
+        }
+        state = successors::apply(task, &state, action);
+    }
+    Ok(offered)
+}
+
+/// Start `first` with the chosen values of the start named `second` (see [`merge`]); None
+/// when its schema's chosen positions are not variables or `second` has no value there.
+fn merged_start(task: &mut Task, first: &Applicable, second: &Term) -> Option<Applicable> {
+    let Pattern::Compound(_, args) = &task.schemas[first.schema].name else { return None };
+    let mut step = first.clone();
+    for p in chosen_positions(task, first.schema) {
+        let (Pattern::Var(v), Some(value)) = (&args[p], second.args().get(p)) else { return None };
+        step.bindings[*v as usize] = task.consts.from_term(value);
+    }
+    Some(step)
 }
 
 /// How many steps a [`merge`] replay may hold back at once before it gives up.
@@ -670,8 +695,7 @@ fn rebound(action: &Applicable, from: ConstId, to: ConstId) -> Applicable {
 impl MergeReplay<'_, '_, '_> {
     /// The applicable action named as `step` is, in the state reached.
     fn named(&mut self, task: &mut Task, step: &Applicable) -> Option<Applicable> {
-        let name = successors::action_name(task, step);
-        self.rewriter.named(task, step.schema, &self.state, &name)
+        self.rewriter.named_as(task, &self.state, step)
     }
 
     /// Job `j`'s unit.
@@ -696,14 +720,8 @@ impl MergeReplay<'_, '_, '_> {
         }
         if let Some(&m) = self.at_first.get(&k) {
             // The start with the second start's chosen values.
-            let second = self.rewriter.names[self.merges[m].second].args().to_vec();
-            let Pattern::Compound(_, args) = task.schemas[step.schema].name.clone() else {
-                return Err(Failure::Detour(m));
-            };
-            for p in chosen_positions(task, step.schema) {
-                let (Pattern::Var(v), Some(value)) = (&args[p], second.get(p)) else { return Err(Failure::Detour(m)) };
-                step.bindings[*v as usize] = task.consts.from_term(value);
-            }
+            let second = &self.rewriter.names[self.merges[m].second];
+            step = merged_start(task, &step, second).ok_or(Failure::Detour(m))?;
             if !self.rewriter.applicable(task, &self.state, &step) {
                 match self.named(task, &step) {
                     Some(found) => step = found,
@@ -713,7 +731,8 @@ impl MergeReplay<'_, '_, '_> {
             self.active.push((m, step.clone()));
             taken.push(m);
         } else if let Some(&m) = self.at_end.get(&k) {
-            let Some(position) = self.active.iter().position(|(a, _)| *a == m) else { return Err(Failure::Plan) };
+            // (Its merged start still held back: blame the merge.)
+            let Some(position) = self.active.iter().position(|(a, _)| *a == m) else { return Err(Failure::Detour(m)) };
             let start = self.active[position].1.clone();
             let Some(end) = self.rewriter.end_of(task, &start, original, &self.state) else { return Ok(false) };
             step = end;
@@ -882,6 +901,12 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     /// its name).
     fn named(&mut self, task: &mut Task, schema: usize, state: &State, name: &Term) -> Option<Applicable> {
         self.family(task, schema, state, |n| n == name).into_iter().next()
+    }
+
+    /// The applicable action of `step`'s family named as `step` is, in `state`.
+    fn named_as(&mut self, task: &mut Task, state: &State, step: &Applicable) -> Option<Applicable> {
+        let name = successors::action_name(task, step);
+        self.named(task, step.schema, state, &name)
     }
 
     /// The end of the running start `start` applicable in `state`, in the family of `end`.

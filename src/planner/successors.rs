@@ -571,6 +571,22 @@ impl<'p> Successors<'p> {
         (&mut self.machine, &mut self.cache)
     }
 
+    /// Whether `action` would apply in `state` but for its Invalid conditions (and its
+    /// InvalidAtEnd ones, and a running instance of itself): its Valid literals hold in
+    /// `state` and its OnKB goals hold. What some later state, without the facts that stand
+    /// in its way, may allow.
+    pub fn applies_but_for_invalid(
+        &mut self,
+        task: &mut Task,
+        action: &Applicable,
+        state: &State,
+    ) -> Result<bool, ConditionError> {
+        self.ignore_invalid = true;
+        let applies = self.applies(task, action, state);
+        self.ignore_invalid = false;
+        applies
+    }
+
     /// Every action applicable in `state`, in the fixed order described in the module docs.
     pub fn applicable(
         &mut self,
