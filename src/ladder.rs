@@ -279,13 +279,15 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   (shortest paths, each step a cycle). (A block whose goal support starts below it and
 ///   must move too needs only one: its move can lift it before the support is gripped and
 ///   put it down after the support is placed.) Blocks that must leave before any goal tower
-///   can start and cannot all stay in the arms are put down on their way, and move again
-///   (`aside`, see `Rung::put_aside`); or, counted instead where it is more: a block above
-///   another both at the start and in the goal, where the one below moves, is lifted before
-///   that one's first grip (and the grips of the blocks between them) and put in its goal
-///   place after its last release, so it is either held through all of that or moves twice
-///   (`waiting`, see `Rung::waiting`). The arms share the sum, and
-///   more (`idle`): an arm is idle before its first grip and after its last release. A block
+///   can start and cannot all stay in the arms are put down on their way, each on a buffer
+///   cell of its own, and move again (`aside`, see `Rung::put_aside`). A block above another
+///   both at the start and in the goal, where the one below moves, is lifted before that
+///   one's first grip (and the grips of the blocks between them) and put in its goal place
+///   after its last release, so it is either held through all of that or moves twice,
+///   through a buffer cell of its own when the one below is gripped (`waiting`, see
+///   `Rung::waiting`). `aside` counts what `waiting` proves of the blocks it does not count
+///   itself; the sum takes the larger of the two. The arms share the sum, and more
+///   (`idle`): an arm is idle before its first grip and after its last release. A block
 ///   with k blocks above it at the start is gripped no earlier than k grips after the start
 ///   (each one above must be gripped and lifted first, one after another); one with k blocks
 ///   above it in its goal tower is released for the last time k releases before the end at
@@ -321,7 +323,8 @@ pub struct LowerBound {
     /// The longest chain a goal tower forces.
     pub chain: i64,
     /// The least work, included in `work`, that blocks put down on their way add: those that
-    /// must leave before any goal tower can start and cannot all stay in the arms.
+    /// must leave before any goal tower can start and cannot all stay in the arms (with what
+    /// `waiting` proves of the others).
     pub aside: i64,
     /// The least work that blocks lifted before a block below them moves add (held in the air
     /// through its move, or put down and moved again); `work` counts the larger of this and
@@ -330,6 +333,23 @@ pub struct LowerBound {
     /// The least time, included in `work`, the arms spend idle before their first grip and
     /// after their last release, when every arm works.
     pub idle: i64,
+}
+
+/// What [`Rung::waiting`] proves of the blocks lifted before a block below them moves, each
+/// such block's least extra work in its group's assignment.
+#[derive(Default)]
+struct Waiting {
+    /// The least extra work of all of them: the sum of the groups' `cost`s.
+    extra: i64,
+    /// Each group (one per block below them, g): its blocks and their least extra work.
+    groups: Vec<(Vec<usize>, i64)>,
+    /// Each block's least work alone: held through g's cycles or moved twice.
+    occupied: std::collections::BTreeMap<usize, i64>,
+    /// Each block's least extra work when it is in the air at some moment before its goal
+    /// place is ready: held through g's cycles, or moved twice after all.
+    in_the_air: std::collections::BTreeMap<usize, i64>,
+    /// Each block's least extra work, however the others fare.
+    least: std::collections::BTreeMap<usize, i64>,
 }
 
 impl Rung {
@@ -448,18 +468,37 @@ impl Rung {
                 .min()
                 .filter(|&w| w != i64::MAX)
         };
-        let aside = self.put_aside(&init, &goal, &works, |b, start, target| {
-            via(start, target).map_or(0, |via| (via - works[&b]).max(0))
-        });
-        let (waiting, occupied) = self.waiting(&init, &goal, &works, |b, below, k, j| {
-            let (start, target) = (from[&b].0, to[&b].0);
-            let twice = via(start, target).unwrap_or(i64::MAX);
-            if start == target {
-                return (None, twice.min(round_trip(start)));
-            }
-            let once = moving(session, start, target) - grip - release;
-            let held = grip + once.max(j * grip + works[&below] + k * release) + release;
-            (Some(held), twice)
+        // A block put down on its way to its goal stands alone on a buffer cell (a cell the
+        // goal leaves empty; std/blocks.pl stacks a block only where the goal does): its moves
+        // reach that cell from its start (two at least when it is its start cell) and go on
+        // to its goal cell.
+        let buffers: Vec<(usize, usize)> =
+            cells.iter().copied().filter(|c| !to.values().any(|(t, _)| t == c)).collect();
+        let down = |b: usize, buffer: (usize, usize)| -> i64 {
+            let [s, t, c] = [from[&b].0, to[&b].0, buffer].map(|x| cells.iter().position(|&y| y == x).expect("a cell"));
+            let reach = if s == c { round_trip(buffer) } else { path[s * n + c] };
+            reach.saturating_add(path[c * n + t])
+        };
+        let waiting = self.waiting(
+            &init,
+            &goal,
+            &works,
+            &buffers,
+            |b, below, k, j| {
+                let (start, target) = (from[&b].0, to[&b].0);
+                let twice = via(start, target).unwrap_or(i64::MAX);
+                if start == target {
+                    return (None, twice.min(round_trip(start)));
+                }
+                let once = moving(session, start, target) - grip - release;
+                let held = grip + once.max(j * grip + works[&below] + k * release) + release;
+                (Some(held), twice)
+            },
+            down,
+        );
+        let aside = self.put_aside(&init, &goal, &works, &buffers, &waiting, |b, buffer| {
+            // (Capped far below overflow: the assignment adds and subtracts these.)
+            down(b, buffer).saturating_sub(works[&b]).clamp(0, i64::MAX / 4)
         });
         // Idle at the ends: how long each block waits at least before its first grip (one
         // grip per block above it at the start) and is done at least before the end (one
@@ -483,7 +522,7 @@ impl Rung {
         let work = (1..=self.arms.max(1))
             .map(|u| {
                 let idle: i64 = firsts[..u].iter().chain(&lasts[..u]).sum();
-                (total + aside.max(waiting) + idle + u as i64 - 1) / u as i64
+                (total + aside.max(waiting.extra) + idle + u as i64 - 1) / u as i64
             })
             .min()
             .unwrap_or(0);
@@ -492,7 +531,7 @@ impl Rung {
         let block = works
             .iter()
             .filter(|(_, w)| **w > 0)
-            .map(|(b, w)| before[b] + occupied.get(b).copied().unwrap_or(*w).max(*w) + after[b])
+            .map(|(b, w)| before[b] + waiting.occupied.get(b).copied().unwrap_or(*w).max(*w) + after[b])
             .max()
             .unwrap_or(0);
         // The last cycle of a block on a goal cell comes from another cell: the least cycle
@@ -519,7 +558,7 @@ impl Rung {
             }
             chain = chain.max(*ends.last().expect("the first block's"));
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting, idle }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting: waiting.extra, idle }
     }
 
     /// The `arms` least of the times `offsets` (one per block), each also repeated `cycle`
@@ -551,9 +590,15 @@ impl Rung {
     /// of reaching its goal from a first move elsewhere), or moves once, held by one arm from
     /// its grip to its release, through the j grips, every cycle of g (one after another, from
     /// its first grip to its last release: g's least work at least) and the k releases
-    /// (`held`). The arms that hold blocks through g's cycles are not g's, so at most
-    /// `arms - 1` blocks of each g are held; the rest move twice. A block whose goal is on its
-    /// own cell cannot move once.
+    /// (`held`). A block whose goal is on its own cell cannot move once.
+    ///
+    /// And when g's first grip starts, every such b of g is either in the air, holding an arm
+    /// (not the one gripping g), or down on a buffer cell (a cell the goal leaves empty: its
+    /// goal place is not ready, and std/blocks.pl puts a block elsewhere only on the table of
+    /// such a cell), one block to a cell, from where it moves again (`down(b, cell)`: its
+    /// least work through that cell). So the least extra work of g's blocks is an assignment
+    /// problem (`least_assignment`): a column per buffer cell, and one per arm that may hold a
+    /// block, at `held` (or `twice`, should it be put down later) more than its own work.
     ///
     /// `occupancy(b, g, k, j)` gives b's `(held, twice)`, `held` None when b cannot move once.
     /// Every b is counted with the lowest such g, so in one group only.
@@ -562,16 +607,17 @@ impl Rung {
         init: &[Tower],
         goal: &[Tower],
         works: &std::collections::BTreeMap<usize, i64>,
+        buffers: &[(usize, usize)],
         mut occupancy: impl FnMut(usize, usize, i64, i64) -> (Option<i64>, i64),
-    ) -> (i64, std::collections::BTreeMap<usize, i64>) {
+        mut down: impl FnMut(usize, (usize, usize)) -> i64,
+    ) -> Waiting {
         let start_of = |b: usize| -> (&Vec<usize>, usize) {
             let (_, tower) = init.iter().find(|(_, t)| t.contains(&b)).expect("every block starts somewhere");
             (tower, tower.iter().position(|&x| x == b).expect("b is in its tower"))
         };
-        let mut extra = 0;
-        let mut occupied = std::collections::BTreeMap::new();
-        // For each g, what holding each of its blocks costs more than moving it twice.
-        let mut groups: std::collections::BTreeMap<usize, Vec<(i64, i64)>> = std::collections::BTreeMap::new();
+        let mut out = Waiting::default();
+        // For each g, its blocks and a row of the assignment for each.
+        let mut groups: std::collections::BTreeMap<usize, Vec<(usize, Vec<i64>)>> = std::collections::BTreeMap::new();
         for (_, tower) in goal {
             for (level, &b) in tower.iter().enumerate() {
                 let (start, start_level) = start_of(b);
@@ -583,57 +629,71 @@ impl Rung {
                 let j = (start_level - g_start - 1) as i64;
                 let (held, twice) = occupancy(b, g, k, j);
                 let own = works[&b];
-                match held {
-                    None => {
-                        extra += (twice - own).max(0);
-                        occupied.insert(b, twice);
-                    }
-                    Some(held) => {
-                        groups.entry(g).or_default().push(((held - own).max(0), (twice - own).max(0)));
-                        occupied.insert(b, held.min(twice));
-                    }
-                }
+                let in_the_air = held.map_or(twice, |held| held.min(twice));
+                out.occupied.insert(b, in_the_air);
+                // (Capped far below overflow: the assignment adds and subtracts these.)
+                let extra = |work: i64| work.saturating_sub(own).clamp(0, i64::MAX / 4);
+                let mut row: Vec<i64> = buffers.iter().map(|&c| extra(down(b, c))).collect();
+                out.in_the_air.insert(b, extra(in_the_air));
+                out.least.insert(b, row.iter().copied().chain([extra(in_the_air)]).min().expect("one at least"));
+                row.extend(std::iter::repeat_n(extra(in_the_air), self.arms.saturating_sub(1)));
+                groups.entry(g).or_default().push((b, row));
             }
         }
-        for members in groups.values() {
-            extra += members.iter().map(|&(held, twice)| held.min(twice)).sum::<i64>();
-            // Those cheaper held than moved twice, beyond the arms that can hold them, move
-            // twice: the ones that lose least by it.
-            let mut losses: Vec<i64> =
-                members.iter().filter(|(held, twice)| held < twice).map(|(held, twice)| twice - held).collect();
-            losses.sort_unstable();
-            let down = losses.len().saturating_sub(self.arms.saturating_sub(1));
-            extra += losses[..down].iter().sum::<i64>();
+        for members in groups.into_values() {
+            let (blocks, mut rows): (Vec<usize>, Vec<Vec<i64>>) = members.into_iter().unzip();
+            // (Were there more blocks than cells and arms, g could not be gripped; the ones
+            // beyond count nothing rather than make that claim.)
+            let width = rows[0].len().max(rows.len());
+            for row in &mut rows {
+                row.resize(width, 0);
+            }
+            let cost = least_assignment(&rows);
+            out.extra += cost;
+            out.groups.push((blocks, cost));
         }
-        (extra, occupied)
+        out
     }
 
     /// The least work that blocks put down before their goal places add, beyond each block's
-    /// own least work (`works`); `extra(b, start, target)` is what block `b`'s goal costs it
-    /// more when its first move ends elsewhere than its goal place.
+    /// own least work (`works`, 0 for a block in its goal place at the start);
+    /// `extra(b, buffer)` is what block `b`'s goal costs it
+    /// more when it stands on `buffer` (one of `buffers`, the cells the goal leaves empty) on
+    /// its way.
     ///
     /// Let t* be the first time a goal tower's bottom that is not in place at the start is put
     /// on its goal cell, and f that bottom. Its cell was empty then: every block that started
     /// on it had been lifted; so had every block that started above f (f is gripped only when
     /// clear). Each of those (but f) whose goal tower's bottom is not in place at the start
-    /// cannot be at its goal place before t* (its tower has no bottom yet), and was either in
-    /// the air, holding one of the arms but f's, or put down elsewhere, to move again. So at
-    /// least `|S| - (arms - 1)` of them move twice, at the cost of the cheapest such; f is
-    /// unknown, so the least over every goal tower.
+    /// cannot be at its goal place at t* (its tower has no bottom yet), so it is either in the
+    /// air, holding one of the arms but f's, or down on a buffer cell, to move again. A block
+    /// stands on a buffer cell only on the table (the goal stacks nothing there), so those
+    /// down at t* stand on as many different buffer cells. The least extra work over every
+    /// way of choosing which of them are down (all but `arms - 1` at most) and on which cells
+    /// is an assignment problem (`least_assignment`, with one column per arm that may hold a
+    /// block: at no cost, or what `waiting` proves of a block held). Every other block's
+    /// extra work adds to that (the extra works of different blocks are different arm time):
+    /// what `waiting` proves of the groups none of whose blocks are counted here, and of the
+    /// rest of each other group each block's least alone. f is unknown, so the least over
+    /// every goal tower. (Were there more such blocks than buffer cells and free arms, f could
+    /// not be first; the ones beyond count nothing rather than make that claim.)
     fn put_aside(
         &self,
         init: &[Tower],
         goal: &[Tower],
         works: &std::collections::BTreeMap<usize, i64>,
-        mut extra: impl FnMut(usize, (usize, usize), (usize, usize)) -> i64,
+        buffers: &[(usize, usize)],
+        waiting: &Waiting,
+        mut extra: impl FnMut(usize, (usize, usize)) -> i64,
     ) -> i64 {
         let start_of = |b: usize| init.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t));
-        let goal_cell = |b: usize| goal.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t[0]));
+        let goal_of = |b: usize| goal.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t[0]));
+        let in_place = |b: usize| works[&b] == 0;
         let mut least: Option<i64> = None;
         for (cell, tower) in goal {
             let f = tower[0];
-            if works[&f] == 0 {
-                continue; // in place at the start
+            if in_place(f) {
+                continue;
             }
             let Some((_, f_tower)) = start_of(f) else { continue };
             let level = f_tower.iter().position(|&b| b == f).expect("f is in its tower");
@@ -643,23 +703,95 @@ impl Rung {
             }
             lifted.sort_unstable();
             lifted.dedup();
-            // Those that cannot be at their goal places before t*.
-            let mut costs: Vec<i64> = lifted
-                .into_iter()
-                .filter(|&b| goal_cell(b).is_some_and(|(_, bottom)| works[&bottom] > 0))
-                .map(|b| {
-                    let (start, _) = start_of(b).expect("every block starts somewhere");
-                    let (target, _) = goal_cell(b).expect("every block has a goal");
-                    extra(b, start, target)
+            // Those that cannot be at their goal places at t*, a row each; a column for each
+            // buffer cell and for each arm that may hold one of them.
+            let counted: Vec<usize> =
+                lifted.into_iter().filter(|&b| goal_of(b).is_some_and(|(_, bottom)| !in_place(bottom))).collect();
+            let mut rows: Vec<Vec<i64>> = counted
+                .iter()
+                .map(|&b| {
+                    let mut row: Vec<i64> = buffers.iter().map(|&c| extra(b, c)).collect();
+                    let air = waiting.in_the_air.get(&b).copied().unwrap_or(0);
+                    row.extend(std::iter::repeat_n(air, self.arms.saturating_sub(1)));
+                    row
                 })
                 .collect();
-            let down = costs.len().saturating_sub(self.arms.saturating_sub(1));
-            costs.sort_unstable();
-            let sum: i64 = costs[..down].iter().sum();
+            let width = (buffers.len() + self.arms.saturating_sub(1)).max(rows.len());
+            for row in &mut rows {
+                row.resize(width, 0);
+            }
+            // The blocks of `waiting`'s groups not counted here add what their group's
+            // assignment proves when none of them is, else each its least alone.
+            let others: i64 = waiting
+                .groups
+                .iter()
+                .map(|(blocks, cost)| {
+                    if blocks.iter().all(|b| !counted.contains(b)) {
+                        *cost
+                    } else {
+                        blocks.iter().filter(|b| !counted.contains(b)).map(|b| waiting.least[b]).sum()
+                    }
+                })
+                .sum();
+            let sum = least_assignment(&rows) + others;
             least = Some(least.map_or(sum, |l| l.min(sum)));
         }
         least.unwrap_or(0)
     }
+}
+
+/// The least total cost of giving each row of `costs` a column of its own (every row as long
+/// as the others and no more rows than columns): the assignment problem, solved exactly by
+/// growing the assignment a row at a time along a cheapest augmenting path, with dual
+/// potentials on rows and columns that keep the reduced costs non-negative (the Hungarian
+/// method, O(rows² × columns)).
+fn least_assignment(costs: &[Vec<i64>]) -> i64 {
+    let rows = costs.len();
+    let Some(columns) = costs.first().map(Vec::len) else { return 0 };
+    assert!(rows <= columns && costs.iter().all(|r| r.len() == columns), "a row per column at most");
+    const NONE: usize = usize::MAX;
+    // Column `columns` is a virtual one the row being added starts from.
+    let (mut row_potential, mut column_potential) = (vec![0i64; rows], vec![0i64; columns + 1]);
+    let mut owner = vec![NONE; columns + 1];
+    for row in 0..rows {
+        owner[columns] = row;
+        let mut slack = vec![i64::MAX; columns];
+        let mut came_from = vec![columns; columns];
+        let mut visited = vec![false; columns + 1];
+        let mut at = columns;
+        // Dijkstra over the columns, in reduced costs, until a free column is reached.
+        while owner[at] != NONE {
+            visited[at] = true;
+            let from = owner[at];
+            let (mut step, mut next) = (i64::MAX, NONE);
+            for c in (0..columns).filter(|&c| !visited[c]) {
+                let reduced = costs[from][c] - row_potential[from] - column_potential[c];
+                if reduced < slack[c] {
+                    slack[c] = reduced;
+                    came_from[c] = at;
+                }
+                if slack[c] < step {
+                    (step, next) = (slack[c], c);
+                }
+            }
+            for c in 0..=columns {
+                if visited[c] {
+                    row_potential[owner[c]] += step;
+                    column_potential[c] -= step;
+                } else {
+                    slack[c] -= step;
+                }
+            }
+            at = next;
+        }
+        // Flip the path back to the virtual column.
+        while at != columns {
+            let previous = came_from[at];
+            owner[at] = owner[previous];
+            at = previous;
+        }
+    }
+    (0..columns).filter(|&c| owner[c] != NONE).map(|c| costs[owner[c]][c]).sum()
 }
 
 /// What planning one rung gave.
@@ -796,4 +928,39 @@ fn check(session: &mut Session, planned: &Planned) -> Result<(i64, i64), String>
     }
     let sequential = timed.stn.durations.iter().flatten().map(|b| b.min).sum();
     Ok((timed.schedule.makespan, sequential))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The least assignment by trying every one: each row in turn takes each column still free.
+    fn every_assignment(costs: &[Vec<i64>], row: usize, taken: &mut Vec<bool>) -> i64 {
+        if row == costs.len() {
+            return 0;
+        }
+        let mut best = i64::MAX;
+        for c in 0..taken.len() {
+            if !taken[c] {
+                taken[c] = true;
+                best = best.min(costs[row][c] + every_assignment(costs, row + 1, taken));
+                taken[c] = false;
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn the_least_assignment_is_the_least_of_every_assignment() {
+        let mut random = Rng::new(7);
+        for round in 0..400 {
+            let rows = round % 6;
+            let columns = rows + random.below(4);
+            // Small costs make ties, and zero columns (as for the arms) are common.
+            let costs: Vec<Vec<i64>> =
+                (0..rows).map(|_| (0..columns).map(|_| random.below(9) as i64).collect()).collect();
+            let expected = every_assignment(&costs, 0, &mut vec![false; columns]);
+            assert_eq!(least_assignment(&costs), expected, "costs {costs:?}");
+        }
+    }
 }
