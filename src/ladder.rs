@@ -335,21 +335,23 @@ pub struct LowerBound {
     pub idle: i64,
 }
 
-/// What [`Rung::waiting`] proves of the blocks lifted before a block below them moves, each
-/// such block's least extra work in its group's assignment.
+/// What [`Rung::waiting`] proves of the blocks lifted before a block below them moves.
 #[derive(Default)]
 struct Waiting {
-    /// The least extra work of all of them: the sum of the groups' `cost`s.
-    extra: i64,
     /// Each group (one per block below them, g): its blocks and their least extra work.
     groups: Vec<(Vec<usize>, i64)>,
-    /// Each block's least work alone: held through g's cycles or moved twice.
+    /// Each block's least work alone, also when it is in the air at some moment before its
+    /// goal place is ready: held through g's cycles, or moved twice.
     occupied: std::collections::BTreeMap<usize, i64>,
-    /// Each block's least extra work when it is in the air at some moment before its goal
-    /// place is ready: held through g's cycles, or moved twice after all.
-    in_the_air: std::collections::BTreeMap<usize, i64>,
     /// Each block's least extra work, however the others fare.
     least: std::collections::BTreeMap<usize, i64>,
+}
+
+impl Waiting {
+    /// The least extra work of all of them: the sum of the groups'.
+    fn extra(&self) -> i64 {
+        self.groups.iter().map(|(_, cost)| cost).sum()
+    }
 }
 
 impl Rung {
@@ -474,7 +476,7 @@ impl Rung {
         // to its goal cell.
         let buffers: Vec<(usize, usize)> =
             cells.iter().copied().filter(|c| !to.values().any(|(t, _)| t == c)).collect();
-        let down = |b: usize, buffer: (usize, usize)| -> i64 {
+        let through = |b: usize, buffer: (usize, usize)| -> i64 {
             let [s, t, c] = [from[&b].0, to[&b].0, buffer].map(|x| cells.iter().position(|&y| y == x).expect("a cell"));
             let reach = if s == c { round_trip(buffer) } else { path[s * n + c] };
             reach.saturating_add(path[c * n + t])
@@ -494,12 +496,9 @@ impl Rung {
                 let held = grip + once.max(j * grip + works[&below] + k * release) + release;
                 (Some(held), twice)
             },
-            down,
+            through,
         );
-        let aside = self.put_aside(&init, &goal, &works, &buffers, &waiting, |b, buffer| {
-            // (Capped far below overflow: the assignment adds and subtracts these.)
-            down(b, buffer).saturating_sub(works[&b]).clamp(0, i64::MAX / 4)
-        });
+        let aside = self.put_aside(&init, &goal, &works, &buffers, &waiting, through);
         // Idle at the ends: how long each block waits at least before its first grip (one
         // grip per block above it at the start) and is done at least before the end (one
         // release per block above it in its goal tower).
@@ -522,7 +521,7 @@ impl Rung {
         let work = (1..=self.arms.max(1))
             .map(|u| {
                 let idle: i64 = firsts[..u].iter().chain(&lasts[..u]).sum();
-                (total + aside.max(waiting.extra) + idle + u as i64 - 1) / u as i64
+                (total + aside.max(waiting.extra()) + idle + u as i64 - 1) / u as i64
             })
             .min()
             .unwrap_or(0);
@@ -558,7 +557,7 @@ impl Rung {
             }
             chain = chain.max(*ends.last().expect("the first block's"));
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting: waiting.extra, idle }
+        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting: waiting.extra(), idle }
     }
 
     /// The `arms` least of the times `offsets` (one per block), each also repeated `cycle`
@@ -595,7 +594,7 @@ impl Rung {
     /// And when g's first grip starts, every such b of g is either in the air, holding an arm
     /// (not the one gripping g), or down on a buffer cell (a cell the goal leaves empty: its
     /// goal place is not ready, and std/blocks.pl puts a block elsewhere only on the table of
-    /// such a cell), one block to a cell, from where it moves again (`down(b, cell)`: its
+    /// such a cell), one block to a cell, from where it moves again (`through(b, cell)`: its
     /// least work through that cell). So the least extra work of g's blocks is an assignment
     /// problem (`least_assignment`): a column per buffer cell, and one per arm that may hold a
     /// block, at `held` (or `twice`, should it be put down later) more than its own work.
@@ -609,7 +608,7 @@ impl Rung {
         works: &std::collections::BTreeMap<usize, i64>,
         buffers: &[(usize, usize)],
         mut occupancy: impl FnMut(usize, usize, i64, i64) -> (Option<i64>, i64),
-        mut down: impl FnMut(usize, (usize, usize)) -> i64,
+        through: impl Fn(usize, (usize, usize)) -> i64,
     ) -> Waiting {
         let start_of = |b: usize| -> (&Vec<usize>, usize) {
             let (_, tower) = init.iter().find(|(_, t)| t.contains(&b)).expect("every block starts somewhere");
@@ -631,35 +630,38 @@ impl Rung {
                 let own = works[&b];
                 let in_the_air = held.map_or(twice, |held| held.min(twice));
                 out.occupied.insert(b, in_the_air);
-                // (Capped far below overflow: the assignment adds and subtracts these.)
-                let extra = |work: i64| work.saturating_sub(own).clamp(0, i64::MAX / 4);
-                let mut row: Vec<i64> = buffers.iter().map(|&c| extra(down(b, c))).collect();
-                out.in_the_air.insert(b, extra(in_the_air));
-                out.least.insert(b, row.iter().copied().chain([extra(in_the_air)]).min().expect("one at least"));
-                row.extend(std::iter::repeat_n(extra(in_the_air), self.arms.saturating_sub(1)));
+                let air = extra(in_the_air, own);
+                let row = self.assignment_row(buffers, |c| extra(through(b, c), own), air);
+                out.least.insert(b, row.iter().copied().fold(air, i64::min));
                 groups.entry(g).or_default().push((b, row));
             }
         }
         for members in groups.into_values() {
-            let (blocks, mut rows): (Vec<usize>, Vec<Vec<i64>>) = members.into_iter().unzip();
-            // (Were there more blocks than cells and arms, g could not be gripped; the ones
-            // beyond count nothing rather than make that claim.)
-            let width = rows[0].len().max(rows.len());
-            for row in &mut rows {
-                row.resize(width, 0);
-            }
+            let (blocks, rows): (Vec<usize>, Vec<Vec<i64>>) = members.into_iter().unzip();
             let cost = least_assignment(&rows);
-            out.extra += cost;
             out.groups.push((blocks, cost));
         }
         out
     }
 
+    /// A block's row of an assignment of `waiting` or `put_aside`: its extra work through
+    /// each of the `buffers` (`through`), then `air` for each arm that may hold it (all but
+    /// the one the argument is about).
+    fn assignment_row(
+        &self,
+        buffers: &[(usize, usize)],
+        through: impl Fn((usize, usize)) -> i64,
+        air: i64,
+    ) -> Vec<i64> {
+        let mut row: Vec<i64> = buffers.iter().map(|&c| through(c)).collect();
+        row.extend(std::iter::repeat_n(air, self.arms.saturating_sub(1)));
+        row
+    }
+
     /// The least work that blocks put down before their goal places add, beyond each block's
     /// own least work (`works`, 0 for a block in its goal place at the start);
-    /// `extra(b, buffer)` is what block `b`'s goal costs it
-    /// more when it stands on `buffer` (one of `buffers`, the cells the goal leaves empty) on
-    /// its way.
+    /// `through(b, buffer)` is block `b`'s least work when it stands on `buffer` (one of
+    /// `buffers`, the cells the goal leaves empty) on its way.
     ///
     /// Let t* be the first time a goal tower's bottom that is not in place at the start is put
     /// on its goal cell, and f that bottom. Its cell was empty then: every block that started
@@ -684,7 +686,7 @@ impl Rung {
         works: &std::collections::BTreeMap<usize, i64>,
         buffers: &[(usize, usize)],
         waiting: &Waiting,
-        mut extra: impl FnMut(usize, (usize, usize)) -> i64,
+        through: impl Fn(usize, (usize, usize)) -> i64,
     ) -> i64 {
         let start_of = |b: usize| init.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t));
         let goal_of = |b: usize| goal.iter().find(|(_, t)| t.contains(&b)).map(|(c, t)| (*c, t[0]));
@@ -707,19 +709,14 @@ impl Rung {
             // buffer cell and for each arm that may hold one of them.
             let counted: Vec<usize> =
                 lifted.into_iter().filter(|&b| goal_of(b).is_some_and(|(_, bottom)| !in_place(bottom))).collect();
-            let mut rows: Vec<Vec<i64>> = counted
+            let rows: Vec<Vec<i64>> = counted
                 .iter()
                 .map(|&b| {
-                    let mut row: Vec<i64> = buffers.iter().map(|&c| extra(b, c)).collect();
-                    let air = waiting.in_the_air.get(&b).copied().unwrap_or(0);
-                    row.extend(std::iter::repeat_n(air, self.arms.saturating_sub(1)));
-                    row
+                    let own = works[&b];
+                    let air = waiting.occupied.get(&b).map_or(0, |&held| extra(held, own));
+                    self.assignment_row(buffers, |c| extra(through(b, c), own), air)
                 })
                 .collect();
-            let width = (buffers.len() + self.arms.saturating_sub(1)).max(rows.len());
-            for row in &mut rows {
-                row.resize(width, 0);
-            }
             // The blocks of `waiting`'s groups not counted here add what their group's
             // assignment proves when none of them is, else each its least alone.
             let others: i64 = waiting
@@ -740,15 +737,24 @@ impl Rung {
     }
 }
 
-/// The least total cost of giving each row of `costs` a column of its own (every row as long
-/// as the others and no more rows than columns): the assignment problem, solved exactly by
-/// growing the assignment a row at a time along a cheapest augmenting path, with dual
-/// potentials on rows and columns that keep the reduced costs non-negative (the Hungarian
-/// method, O(rows² × columns)).
+/// What a block's least `work` is more than its own least work `own`, capped far below
+/// overflow (the assignment adds and subtracts these).
+fn extra(work: i64, own: i64) -> i64 {
+    work.saturating_sub(own).clamp(0, i64::MAX / 4)
+}
+
+/// The least total cost of giving each row of `costs` (each as long as the others) a column
+/// of its own: the assignment problem, solved exactly by growing the assignment a row at a
+/// time along a cheapest augmenting path, with dual potentials on rows and columns that keep
+/// the reduced costs non-negative (the Hungarian method, O(rows² × columns)). Where the rows
+/// outnumber the columns, the rows left over cost nothing (for the bound: more blocks than
+/// cells and arms would make the moment argued about impossible, a claim it does not make).
 fn least_assignment(costs: &[Vec<i64>]) -> i64 {
     let rows = costs.len();
-    let Some(columns) = costs.first().map(Vec::len) else { return 0 };
-    assert!(rows <= columns && costs.iter().all(|r| r.len() == columns), "a row per column at most");
+    let Some(width) = costs.first().map(Vec::len) else { return 0 };
+    assert!(costs.iter().all(|r| r.len() == width), "rows of one length");
+    let columns = width.max(rows);
+    let cost = |r: usize, c: usize| costs[r].get(c).copied().unwrap_or(0);
     const NONE: usize = usize::MAX;
     // Column `columns` is a virtual one the row being added starts from.
     let (mut row_potential, mut column_potential) = (vec![0i64; rows], vec![0i64; columns + 1]);
@@ -765,7 +771,7 @@ fn least_assignment(costs: &[Vec<i64>]) -> i64 {
             let from = owner[at];
             let (mut step, mut next) = (i64::MAX, NONE);
             for c in (0..columns).filter(|&c| !visited[c]) {
-                let reduced = costs[from][c] - row_potential[from] - column_potential[c];
+                let reduced = cost(from, c) - row_potential[from] - column_potential[c];
                 if reduced < slack[c] {
                     slack[c] = reduced;
                     came_from[c] = at;
@@ -791,7 +797,7 @@ fn least_assignment(costs: &[Vec<i64>]) -> i64 {
             at = previous;
         }
     }
-    (0..columns).filter(|&c| owner[c] != NONE).map(|c| costs[owner[c]][c]).sum()
+    (0..columns).filter(|&c| owner[c] != NONE).map(|c| cost(owner[c], c)).sum()
 }
 
 /// What planning one rung gave.
