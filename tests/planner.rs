@@ -389,9 +389,10 @@ fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_wa
     // And when the first bottom reaches its goal cell, say b5 on (3, 2), b4 and b6 have left
     // it and b3, b1 and b2 have left (3, 2): five blocks, two arms besides b5's to hold them,
     // so three stand on buffer cells, one each. Only (2, 2) neighbours both towers (4 + 4 on
-    // the way, 3 more than 5); through any other, 5 more. Held, b3 (b5's twin) costs nothing
-    // more, b4 or b1 2. So at least 0 + 2 + 3 + 5 + 5 = 15 more, and with the arms' idle time
-    // at either end (1 + 1), the work shared by three arms is (30 + 15 + 2) / 3.
+    // the way, 3 more than 5); through any other, 5 more at least. Held, b3 (the other
+    // tower's bottom, which waits for no block below it) costs nothing more, b4 or b1 2. So
+    // at least 0 + 2 + 3 + 5 + 5 = 15 more, and with the arms' idle time at either end
+    // (1 + 1), the work shared by three arms is (30 + 15 + 2) / 3.
     let bound = bound_below_plan(Rung { family: Family::Swap, blocks: 6, arms: 3, seed: 1 });
     let unit = kbc::ir::stn::UNITS;
     assert_eq!(bound.waiting, 10 * unit, "{bound:?}");
