@@ -450,8 +450,8 @@ fn reassigning_jobs_keeps_plans_valid_and_never_makes_them_longer() {
     assert!(improved.len() >= 10, "only {} plans got shorter", improved.len());
 }
 
-/// Every candidate `reassign` makes is a plan the independent validator accepts, not only
-/// the one kept: the pass keeps every ordering of the partial order that does not come from a
+/// Every candidate `reassign` makes (with the variants of its urgent rules) is a plan the
+/// independent validator accepts, not only the one kept: the pass keeps every ordering of the partial order that does not come from a
 /// unit's resource fact, and a pair of steps ordered for a resource fact may be ordered for
 /// another fact too (`release_end(a1, b1)` gives a1 back and makes b1 clear; when a1 grips
 /// b1 next, dropping the pair for the arm lost the block). Candidates that broke such links
@@ -471,7 +471,13 @@ fn every_reassign_candidate_is_a_valid_plan() {
         let (rearranged, _) = session.reassign(plan.clone(), searched);
         for plan in [plan, rearranged] {
             let timed = timed(&mut session, &plan);
-            for candidate in passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn) {
+            for candidate in passes::reassign::candidates(
+                session.kb(),
+                &plan,
+                &timed.pop,
+                &timed.stn,
+                passes::reassign::Rules::WithVariants(8),
+            ) {
                 let span = session.kb().problems[0].span;
                 let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &candidate.plan, span));
                 assert!(
@@ -494,12 +500,15 @@ fn reassigning_needs_a_renewable_resource_and_every_unit_in_a_job() {
     let plan = search(&mut session, 0);
     let timed = timed(&mut session, &plan);
     assert!(
-        !passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn).is_empty(),
+        !passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn, passes::reassign::Rules::Fixed)
+            .is_empty(),
         "with `resources(available(_))` the pass has candidates"
     );
     let mut kb = session.kb().clone();
     kb.resources.clear();
-    assert!(passes::reassign::candidates(&kb, &plan, &timed.pop, &timed.stn).is_empty());
+    assert!(
+        passes::reassign::candidates(&kb, &plan, &timed.pop, &timed.stn, passes::reassign::Rules::Fixed).is_empty()
+    );
     // An arm that grips a block in the initial state works before any job takes it: the pass
     // leaves such plans alone.
     let mut held = Session::from_text(
@@ -513,7 +522,10 @@ fn reassigning_needs_a_renewable_resource_and_every_unit_in_a_job() {
     assert!(plan.steps.iter().any(|s| kbc::ir::hir::term_to_string(held.interner(), &s.name, &Default::default())
         == "move_block_start(a1, b1, 1, 1, 3, 3)"));
     let timed = common::timed(&mut held, &plan);
-    assert!(passes::reassign::candidates(held.kb(), &plan, &timed.pop, &timed.stn).is_empty());
+    assert!(
+        passes::reassign::candidates(held.kb(), &plan, &timed.pop, &timed.stn, passes::reassign::Rules::Fixed)
+            .is_empty()
+    );
 }
 
 /// A resource whose template no action changes (the grid rungs' `resources(agent(_))`, with
@@ -530,7 +542,10 @@ fn a_static_resource_template_makes_jobs_of_its_units_free_facts() {
     assert_eq!(steps.len() * 2, plan.steps.len(), "a job per move");
     assert!(steps.iter().all(|s| s.len() == 2), "{steps:?}");
     let timed = timed(&mut session, &plan);
-    assert!(!passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn).is_empty());
+    assert!(
+        !passes::reassign::candidates(session.kb(), &plan, &timed.pop, &timed.stn, passes::reassign::Rules::Fixed)
+            .is_empty()
+    );
     // `busy(A)` added instead of `free(A)` deleted: no step takes a unit, so no jobs.
     let source = rung.source().replace("del(free(A))", "add(busy(A))");
     let mut session = Session::from_text(&rung.name(), &source);
