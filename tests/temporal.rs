@@ -476,7 +476,7 @@ fn every_reassign_candidate_is_a_valid_plan() {
                 &plan,
                 &timed.pop,
                 &timed.stn,
-                passes::reassign::Rules::WithVariants(8),
+                passes::reassign::Rules::WithVariants(2),
             ) {
                 let span = session.kb().problems[0].span;
                 let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &candidate.plan, span));
