@@ -38,11 +38,12 @@
 //!   number: steps the simulation could place at the same time and of about the same urgency
 //!   come in other orders, and so other jobs take the free units. The driver asks for them
 //!   where a plan is first rearranged and in a last pass over the finished plan (see
-//!   `session::temporal::reassign`). Measured on the ladder (`kbc bench --search heuristic`,
-//!   one run per seed, eight variants in both places against none): the sum of makespans over
-//!   the 52 rungs 2332 -> 2312 (seed 1), 2257 -> 2241 (seed 2), 2357 -> 2329 (seed 3);
-//!   build_b50_a8_s3 67 -> 61, reverse_b20_a4_s3 52 -> 47; the slowest rung about as before
-//!   (3.5-4.3 s), since the simulation now recomputes its lower bounds only when they change.
+//!   `session::temporal::reassign`, which also tries small plans without them). Measured on
+//!   the ladder (`kbc bench --search heuristic`, one run per seed, eight variants in both
+//!   places against none): the sum of makespans over the 52 rungs 2332 -> 2310 (seed 1),
+//!   2257 -> 2235 (seed 2), 2357 -> 2326 (seed 3); build_b50_a8_s3 67 -> 61,
+//!   reverse_b20_a4_s3 52 -> 47; the slowest rung about as before (3.5-4.5 s), since the
+//!   simulation now recomputes its lower bounds only when they change.
 //!
 //! Each candidate is a total-order plan: the steps sorted by their simulated times (ends
 //! before starts at equal times), each job's steps naming its new unit. The simulation is an

@@ -92,7 +92,7 @@ const REASSIGN_ROUNDS: usize = 4;
 /// How many variants of its urgent rules ([`Rules::WithVariants`]) [`reassign`] simulates
 /// besides the fixed rules when it first rearranges a plan. Measured on the ladder (`kbc
 /// bench --search heuristic`, seeds 1/2/3, with [`polish`]) against none: the sums of
-/// makespans 2332/2257/2357 -> 2312/2241/2329.
+/// makespans 2332/2257/2357 -> 2312/2241/2329 (2310/2235/2326 with [`BOTH_WAYS_STEPS`]).
 const REASSIGN_VARIANTS: u64 = 8;
 
 /// How many times [`polish`] rearranges a finished plan, at most.
@@ -167,6 +167,10 @@ pub(crate) enum Moves {
 /// gain; with `Moves::All`, a last relocation onto places being cleared
 /// ([`relocations_onto_cleared`]) and a [`polish`]. Returns the plan and schedule kept (the given ones when
 /// nothing was shorter).
+///
+/// A plan of at most [`BOTH_WAYS_STEPS`] steps goes through all of this twice, the second time
+/// without the variants ([`Rules::Fixed`], pass `fixed rules` in `-v`), and the shorter result
+/// is kept.
 pub(crate) fn reassign(
     kb: &Kb,
     interner: &Interner,
@@ -175,6 +179,39 @@ pub(crate) fn reassign(
     (plan, timed): (crate::ir::plan::Plan, Timed),
     moves: Moves,
 ) -> Rearranged {
+    let epsilon = timed.stn.epsilon;
+    let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| plan.clone());
+    let first = Rules::WithVariants(REASSIGN_VARIANTS);
+    let varied = reassign_with(kb, interner, program, task, (plan, timed), moves, first);
+    let Some(plan) = again else { return varied };
+    let Some(timed) = schedule(kb, interner, program, &plan, None, epsilon, &mut Diagnostics::new()) else {
+        return varied;
+    };
+    let before = varied.timed.schedule.makespan;
+    let fixed = super::timing::time(
+        "fixed rules",
+        || reassign_with(kb, interner, program, task, (plan, timed), moves, Rules::Fixed),
+        |fixed| change(before, before.min(fixed.timed.schedule.makespan)),
+    );
+    if fixed.timed.schedule.makespan < varied.timed.schedule.makespan { fixed } else { varied }
+}
+
+/// Plans of at most so many steps [`reassign`] rearranges both with and without the variants
+/// of [`REASSIGN_VARIANTS`]: the variants change the path the later passes take, on some
+/// plans for the worse (on the ladder, 11 of 156 rungs were longer with them alone; on a
+/// random 40-block problem, 79 -> 89). Larger plans are not, for time.
+const BOTH_WAYS_STEPS: usize = 400;
+
+/// [`reassign`] with `first`, the rules of the first rearrangement.
+fn reassign_with(
+    kb: &Kb,
+    interner: &Interner,
+    program: &crate::engine::Program,
+    task: &mut crate::ir::task::Task,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+    moves: Moves,
+    first: Rules,
+) -> Rearranged {
     let before = timed.schedule.makespan;
     // One generator for every plan checked, so that OnKB goals are proven once.
     let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
@@ -182,7 +219,7 @@ pub(crate) fn reassign(
     let mut cx = Rearranging { kb, interner, program, successors, task };
     let (plan, timed) = super::timing::time(
         "reassign",
-        || rearrange(&mut cx, (plan, timed), REASSIGN_ROUNDS, Rules::WithVariants(REASSIGN_VARIANTS)),
+        || rearrange(&mut cx, (plan, timed), REASSIGN_ROUNDS, first),
         |(_, timed)| {
             let (from, to) = (before, timed.schedule.makespan);
             change(from, to)
