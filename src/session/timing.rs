@@ -63,11 +63,13 @@ pub fn render(times: &[PassTime]) -> String {
     use std::fmt::Write;
     let mut out = String::new();
     let total: Duration = times.iter().map(|t| t.elapsed).sum();
-    let _ = writeln!(out, "{:>10}  {:>10}  what", "pass", "time");
+    // The names right-aligned in a column as wide as the longest.
+    let width = times.iter().map(|t| t.pass.len()).max().unwrap_or(0).max(10);
+    let _ = writeln!(out, "{:>width$}  {:>10}  what", "pass", "time");
     for t in times {
-        let _ = writeln!(out, "{:>10}  {:>10}  {}", t.pass, millis(t.elapsed), t.what);
+        let _ = writeln!(out, "{:>width$}  {:>10}  {}", t.pass, millis(t.elapsed), t.what);
     }
-    let _ = writeln!(out, "{:>10}  {:>10}", "total", millis(total));
+    let _ = writeln!(out, "{:>width$}  {:>10}", "total", millis(total));
     out
 }
 
@@ -93,5 +95,11 @@ mod tests {
         assert!(take().is_empty(), "`take` empties the record");
         let table = render(&times);
         assert!(table.lines().count() == 4 && table.contains("total"), "{table}");
+        // A name longer than the column widens it: the times stay in one column.
+        let long = PassTime { pass: "a longer pass name", elapsed: Duration::from_millis(2), what: String::new() };
+        let table = render(&[times[0].clone(), long]);
+        let ends: Vec<Option<usize>> =
+            table.lines().map(|l| l.find(" ms").map(|i| i + 3).or(l.find("time").map(|i| i + 4))).collect();
+        assert!(ends.len() == 4 && ends.iter().all(|&end| end.is_some() && end == ends[0]), "{table}");
     }
 }
