@@ -142,9 +142,9 @@ pub(crate) enum Moves {
 }
 
 /// Runs the `reassign` pass on a scheduled plan (its fixed rules and [`REASSIGN_VARIANTS`]
-/// variants) and keeps what it gains; then, as `moves`
-/// asks, relocates starts, sends held starts aside and merges jobs
-/// ([`crate::planner::detour`]) where that shortens the plan further.
+/// variants) and keeps what it gains; then, as `moves` asks, relocates starts, sends held
+/// starts aside and merges jobs ([`crate::planner::detour`]) where that shortens the plan
+/// further.
 ///
 /// Reassigning: each candidate, best estimate first, is checked step by step under the
 /// search's semantics ([`crate::planner::is_solution`]) and scheduled by the temporal passes;
@@ -165,8 +165,8 @@ pub(crate) enum Moves {
 /// Relocations ([`relocations`]) run before the detours and again after them, and the merges
 /// after those; detours, relocations and merges run again, up to [`CYCLES`] times, while they
 /// gain; with `Moves::All`, a last relocation onto places being cleared
-/// ([`relocations_onto_cleared`]) and a [`polish`]. Returns the plan and schedule kept (the given ones when
-/// nothing was shorter).
+/// ([`relocations_onto_cleared`]) and a [`polish`]. Returns the plan and schedule kept (the
+/// given ones when nothing was shorter).
 ///
 /// A plan of at most [`BOTH_WAYS_STEPS`] steps goes through all of this twice, the second time
 /// without the variants ([`Rules::Fixed`], pass `fixed rules` in `-v`), and the shorter result
@@ -181,8 +181,11 @@ pub(crate) fn reassign(
 ) -> Rearranged {
     let epsilon = timed.stn.epsilon;
     let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| plan.clone());
-    let first = Rules::WithVariants(REASSIGN_VARIANTS);
-    let varied = reassign_with(kb, interner, program, task, (plan, timed), moves, first);
+    // One generator for every plan checked (both ways), so that OnKB goals are proven once.
+    let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
+    let successors = crate::planner::successors::Successors::new(task, engine);
+    let mut cx = Rearranging { kb, interner, program, successors, task };
+    let varied = reassign_with(&mut cx, (plan, timed), moves, Rules::WithVariants(REASSIGN_VARIANTS));
     let Some(plan) = again else { return varied };
     let Some(timed) = schedule(kb, interner, program, &plan, None, epsilon, &mut Diagnostics::new()) else {
         return varied;
@@ -190,7 +193,7 @@ pub(crate) fn reassign(
     let before = varied.timed.schedule.makespan;
     let fixed = super::timing::time(
         "fixed rules",
-        || reassign_with(kb, interner, program, task, (plan, timed), moves, Rules::Fixed),
+        || reassign_with(&mut cx, (plan, timed), moves, Rules::Fixed),
         |fixed| change(before, before.min(fixed.timed.schedule.makespan)),
     );
     if fixed.timed.schedule.makespan < varied.timed.schedule.makespan { fixed } else { varied }
@@ -202,24 +205,17 @@ pub(crate) fn reassign(
 /// random 40-block problem, 79 -> 89). Larger plans are not, for time.
 const BOTH_WAYS_STEPS: usize = 400;
 
-/// [`reassign`] with `first`, the rules of the first rearrangement.
+/// [`reassign`] once, with `first` the rules of the first rearrangement.
 fn reassign_with(
-    kb: &Kb,
-    interner: &Interner,
-    program: &crate::engine::Program,
-    task: &mut crate::ir::task::Task,
+    cx: &mut Rearranging<'_, '_>,
     (plan, timed): (crate::ir::plan::Plan, Timed),
     moves: Moves,
     first: Rules,
 ) -> Rearranged {
     let before = timed.schedule.makespan;
-    // One generator for every plan checked, so that OnKB goals are proven once.
-    let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
-    let successors = crate::planner::successors::Successors::new(task, engine);
-    let mut cx = Rearranging { kb, interner, program, successors, task };
     let (plan, timed) = super::timing::time(
         "reassign",
-        || rearrange(&mut cx, (plan, timed), REASSIGN_ROUNDS, first),
+        || rearrange(cx, (plan, timed), REASSIGN_ROUNDS, first),
         |(_, timed)| {
             let (from, to) = (before, timed.schedule.makespan);
             change(from, to)
@@ -232,7 +228,7 @@ fn reassign_with(
     // places they chose are relocated in turn.
     let mut settled = Settled::default();
     let relocation = ("relocate", "starts relocated", relocations as Step);
-    let (plan, timed, relocated) = settled.pass(&mut cx, relocation, (plan, timed));
+    let (plan, timed, relocated) = settled.pass(cx, relocation, (plan, timed));
     if moves == Moves::Relocations {
         return Rearranged { plan, timed, detours: 0, relocated, merged: 0 };
     }
@@ -241,14 +237,14 @@ fn reassign_with(
     for _ in 0..CYCLES {
         let start = timed.schedule.makespan;
         let (aside, again, joined);
-        (plan, timed, aside) = settled.pass(&mut cx, ("detour", "starts sent aside", detours), (plan, timed));
+        (plan, timed, aside) = settled.pass(cx, ("detour", "starts sent aside", detours), (plan, timed));
         sent += aside;
-        (plan, timed, again) = settled.pass(&mut cx, relocation, (plan, timed));
+        (plan, timed, again) = settled.pass(cx, relocation, (plan, timed));
         relocated += again;
         if moves == Moves::Detours {
             break;
         }
-        (plan, timed, joined) = settled.pass(&mut cx, ("merge", "jobs merged", merges), (plan, timed));
+        (plan, timed, joined) = settled.pass(cx, ("merge", "jobs merged", merges), (plan, timed));
         merged += joined;
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
@@ -257,9 +253,9 @@ fn reassign_with(
     if moves == Moves::All {
         let cleared = ("cleared", "starts relocated onto places being cleared", relocations_onto_cleared as Step);
         let again;
-        (plan, timed, again) = settled.pass(&mut cx, cleared, (plan, timed));
+        (plan, timed, again) = settled.pass(cx, cleared, (plan, timed));
         relocated += again;
-        (plan, timed, _) = settled.pass(&mut cx, ("polish", "rounds kept", polish), (plan, timed));
+        (plan, timed, _) = settled.pass(cx, ("polish", "rounds kept", polish), (plan, timed));
     }
     Rearranged { plan, timed, detours: sent, relocated, merged }
 }
@@ -341,19 +337,15 @@ fn rearrange(
     rounds: usize,
     rules: Rules,
 ) -> (crate::ir::plan::Plan, Timed) {
-    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
+    let kb = cx.kb;
     for _ in 0..rounds {
         let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn, rules);
         let mut improved = false;
         for candidate in candidates {
-            if candidate.estimate >= timed.schedule.makespan
-                || !crate::planner::is_solution_with(&mut cx.successors, cx.task, &candidate.plan)
-            {
+            if candidate.estimate >= timed.schedule.makespan {
                 continue;
             }
-            let mut diags = Diagnostics::new();
-            if let Some(scheduled) =
-                schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut diags)
+            if let Some(scheduled) = checked(cx, &candidate.plan, timed.stn.epsilon)
                 && scheduled.schedule.makespan < timed.schedule.makespan
             {
                 (plan, timed) = (candidate.plan, scheduled);
@@ -368,6 +360,15 @@ fn rearrange(
     (plan, timed)
 }
 
+/// The schedule of a candidate plan of [`rearrange`] or [`polish`], if the search's semantics
+/// accept it step by step ([`crate::planner::is_solution`]).
+fn checked(cx: &mut Rearranging<'_, '_>, plan: &crate::ir::plan::Plan, epsilon: i64) -> Option<Timed> {
+    if !crate::planner::is_solution_with(&mut cx.successors, cx.task, plan) {
+        return None;
+    }
+    schedule(cx.kb, cx.interner, cx.program, plan, None, epsilon, &mut Diagnostics::new())
+}
+
 /// The last pass of [`reassign`] with `Moves::All`: the finished plan rearranged by variants
 /// of the urgent rules ([`Rules::Variants`]), all of them scheduled and the shortest kept if
 /// shorter than the plan, while that gains, up to [`POLISH_ROUNDS`] times. Unlike
@@ -379,7 +380,7 @@ fn polish(
     cx: &mut Rearranging<'_, '_>,
     (mut plan, mut timed): (crate::ir::plan::Plan, Timed),
 ) -> (crate::ir::plan::Plan, Timed, usize) {
-    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
+    let kb = cx.kb;
     let mut kept = 0;
     for _ in 0..POLISH_ROUNDS {
         let makespan = timed.schedule.makespan;
@@ -387,14 +388,11 @@ fn polish(
         for candidate in
             crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn, Rules::Variants(POLISH_VARIANTS))
         {
-            if candidate.estimate >= makespan + makespan / POLISH_SLACK
-                || !crate::planner::is_solution_with(&mut cx.successors, cx.task, &candidate.plan)
-            {
+            if candidate.estimate >= makespan + makespan / POLISH_SLACK {
                 continue;
             }
             let shortest = best.as_ref().map_or(makespan, |(_, t)| t.schedule.makespan);
-            if let Some(scheduled) =
-                schedule(kb, interner, program, &candidate.plan, None, timed.stn.epsilon, &mut Diagnostics::new())
+            if let Some(scheduled) = checked(cx, &candidate.plan, timed.stn.epsilon)
                 && scheduled.schedule.makespan < shortest
             {
                 best = Some((candidate.plan, scheduled));
