@@ -1171,8 +1171,8 @@ goal_state([used(t1), used(t2), waved(h1)]).
 
 #[test]
 fn checking_one_action_agrees_with_listing_every_applicable_instance() {
-    // `Successors::applies` binds the action's values before matching; `Successors::schema`
-    // lists every instance from scratch. Along plans of four KBs (the standard blocks world,
+    // `Successors::applies` and `Successors::named` bind the action's values before
+    // matching; `Successors::schema` lists every instance from scratch. Along plans of four KBs (the standard blocks world,
     // a grid KB in other authors' style, the depot KB and the paper's case), every step is
     // checked in the state it is taken in and in the states two steps before and after it,
     // where it often does not apply.
@@ -1207,6 +1207,22 @@ fn checking_one_action_agrees_with_listing_every_applicable_instance() {
                 let got = checking.applies(&mut task, action, &states[at]).expect("no engine error");
                 assert_eq!(got, expected, "{name}: step {} in the state before step {}", k + 1, at + 1);
                 assert!(at != k || got, "{name}: step {} applies where the plan takes it", k + 1);
+                // Listing the instances of one name (its values bound first) finds those of
+                // the whole list that have that name, in the list's order.
+                let wanted = successors::action_name(&task, action);
+                let id = task.consts.from_term(&wanted).expect("a ground name");
+                let mut named = Vec::new();
+                checking.named(&mut task, action.schema, &states[at], id, &mut named).expect("no engine error");
+                let same_name = |list: &[successors::Applicable], task: &kbc::ir::task::Task| -> Vec<_> {
+                    list.iter().filter(|a| successors::action_name(task, a) == wanted).cloned().collect()
+                };
+                assert_eq!(
+                    same_name(&named, &task),
+                    same_name(&listed, &task),
+                    "{name}: instances named as step {} in the state before step {}",
+                    k + 1,
+                    at + 1
+                );
                 agreed += 1;
                 refused += usize::from(!got);
             }

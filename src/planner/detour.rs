@@ -436,7 +436,7 @@ impl Rewriter<'_, '_> {
         for moved in active.iter().rev() {
             for args in substituted(name.args(), &moved.old, &moved.new) {
                 let wanted = Term::Compound(functor, args.into());
-                if let Some(step) = self.family(task, path[k].schema, state, |n| *n == wanted).into_iter().next() {
+                if let Some(step) = self.named(task, path[k].schema, state, &wanted) {
                     return Some(step);
                 }
             }
@@ -895,7 +895,19 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     /// The applicable action of `schema`'s family named `name` (whatever its values outside
     /// its name).
     fn named(&mut self, task: &mut Task, schema: usize, state: &State, name: &Term) -> Option<Applicable> {
-        self.family(task, schema, state, |n| n == name).into_iter().next()
+        let Some(wanted) = task.consts.from_term(name) else {
+            return self.family(task, schema, state, |n| n == name).into_iter().next();
+        };
+        for member in self.families[schema].clone() {
+            self.scratch.clear();
+            if self.successors.named(task, member, state, wanted, &mut self.scratch).is_err() {
+                continue;
+            }
+            if let Some(found) = self.scratch.drain(..).find(|a| successors::action_name(task, a) == *name) {
+                return Some(found);
+            }
+        }
+        None
     }
 
     /// The applicable action of `step`'s family named as `step` is, in `state`.

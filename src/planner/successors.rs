@@ -596,7 +596,7 @@ impl<'p> Successors<'p> {
     ) -> Result<(), ConditionError> {
         out.clear();
         for index in 0..task.schemas.len() {
-            self.schema_in(task, index, state, None, None, out)?;
+            self.schema_in(task, index, state, (None, None, &[]), out)?;
         }
         Ok(())
     }
@@ -613,7 +613,7 @@ impl<'p> Successors<'p> {
     ) -> Result<(), ConditionError> {
         out.clear();
         for index in 0..task.schemas.len() {
-            self.schema_in(task, index, state, Some(order), None, out)?;
+            self.schema_in(task, index, state, (Some(order), None, &[]), out)?;
         }
         Ok(())
     }
@@ -626,7 +626,7 @@ impl<'p> Successors<'p> {
         state: &State,
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
-        self.schema_in(task, index, state, None, None, out)
+        self.schema_in(task, index, state, (None, None, &[]), out)
     }
 
     /// The applicable instances of end schema `index` that end the running action `running`:
@@ -640,7 +640,33 @@ impl<'p> Successors<'p> {
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
         debug_assert_eq!(task.schemas[index].snap, Snap::End);
-        self.schema_in(task, index, state, None, Some(running), out)
+        self.schema_in(task, index, state, (None, Some(running), &[]), out)
+    }
+
+    /// The applicable instances of schema `index` that may be named `name` (with its values
+    /// for the variables of Valid literals bound before matching, as [`Successors::applies`]
+    /// binds them): those of [`Successors::schema`] named `name`, in the same order, without
+    /// matching the state's other facts. Others (named otherwise through a variable bound
+    /// only by an OnKB goal) may be among them; callers filter by name.
+    pub fn named(
+        &mut self,
+        task: &mut Task,
+        index: usize,
+        state: &State,
+        name: ConstId,
+        out: &mut Vec<Applicable>,
+    ) -> Result<(), ConditionError> {
+        let schema = &task.schemas[index];
+        let mut preset = vec![None; schema.vars];
+        let mut trail = Vec::new();
+        if !match_pattern(&schema.name, name, &task.consts, &mut preset, &mut trail) {
+            return Ok(());
+        }
+        let mut in_valid = Vec::new();
+        schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut in_valid)));
+        let preset: Vec<Option<ConstId>> =
+            (0..schema.vars).map(|v| if in_valid.contains(&(v as u32)) { preset[v] } else { None }).collect();
+        self.schema_in(task, index, state, (None, None, &preset), out)
     }
 
     /// Whether `action` applies in `state`: the applicable instances of its schema include it.
@@ -673,14 +699,14 @@ impl<'p> Successors<'p> {
     }
 
     /// The applicable instances of schema `index`, with Valid literals matched in `order`'s
-    /// order if given; for an end, only those that end `only` if given.
+    /// order if given; for an end, only those that end `only` if given; with the values of
+    /// `preset` (by variable; empty for none) bound before matching.
     fn schema_in(
         &mut self,
         task: &mut Task,
         index: usize,
         state: &State,
-        order: Option<&PaperOrder>,
-        only: Option<ConstId>,
+        (order, only, preset): (Option<&PaperOrder>, Option<ConstId>, &[Option<ConstId>]),
         out: &mut Vec<Applicable>,
     ) -> Result<(), ConditionError> {
         let Task { consts, facts, schemas, goal_terms, .. } = task;
@@ -688,6 +714,7 @@ impl<'p> Successors<'p> {
         self.bindings.clear();
         self.bindings.resize(schema.vars, None);
         self.trail.clear();
+        self.bindings[..preset.len()].copy_from_slice(preset);
         let mut context = Context { consts, facts, goal_terms, schema, index, state, order, out };
         if schema.snap == Snap::End {
             let running: &[ConstId] = match order {
