@@ -662,8 +662,7 @@ impl<'p> Successors<'p> {
         if !match_pattern(&schema.name, name, &task.consts, &mut preset, &mut trail) {
             return Ok(());
         }
-        let mut in_valid = Vec::new();
-        schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut in_valid)));
+        let in_valid = valid_vars(schema);
         let preset: Vec<Option<ConstId>> =
             (0..schema.vars).map(|v| if in_valid.contains(&(v as u32)) { preset[v] } else { None }).collect();
         self.schema_in(task, index, state, (None, None, &preset), out)
@@ -679,9 +678,7 @@ impl<'p> Successors<'p> {
         self.bindings.clear();
         self.bindings.resize(schema.vars, None);
         self.trail.clear();
-        let mut in_valid = Vec::new();
-        schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut in_valid)));
-        for v in in_valid {
+        for v in valid_vars(schema) {
             self.bindings[v as usize] = action.bindings.get(v as usize).copied().flatten();
         }
         let mut found = Vec::new();
@@ -839,6 +836,13 @@ struct Context<'a> {
     /// The order to match Valid literals in (the paper's state list), if not the state's.
     order: Option<&'a PaperOrder>,
     out: &'a mut Vec<Applicable>,
+}
+
+/// The variables of a schema's Valid literals (those bound once its Valid literals match).
+fn valid_vars(schema: &Schema) -> Vec<u32> {
+    let mut vars = Vec::new();
+    schema.valid.iter().for_each(|l| l.args.iter().for_each(|a| a.vars(&mut vars)));
+    vars
 }
 
 /// The values of a literal's arguments when each is a constant or a bound variable.
