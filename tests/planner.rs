@@ -1172,10 +1172,10 @@ goal_state([used(t1), used(t2), waved(h1)]).
 #[test]
 fn checking_one_action_agrees_with_listing_every_applicable_instance() {
     // `Successors::applies` and `Successors::named` bind the action's values before
-    // matching; `Successors::schema` lists every instance from scratch. Along plans of four KBs (the standard blocks world,
-    // a grid KB in other authors' style, the depot KB and the paper's case), every step is
-    // checked in the state it is taken in and in the states two steps before and after it,
-    // where it often does not apply.
+    // matching; `Successors::schema` lists every instance from scratch. Along plans of four
+    // KBs (the standard blocks world, a grid KB in other authors' style, the depot KB and the
+    // paper's case), every step is checked in the state it is taken in and in the states two
+    // steps before and after it, where it often does not apply.
     let rungs = [Rung { family: Family::Swap, blocks: 8, arms: 3, seed: 1 }, ladder::grid()[1]];
     let mut cases: Vec<(String, Frontend)> =
         rungs.iter().map(|r| (r.name(), from_text("rung.pl", r.source()))).collect();

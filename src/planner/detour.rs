@@ -895,9 +895,8 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     /// The applicable action of `schema`'s family named `name` (whatever its values outside
     /// its name).
     fn named(&mut self, task: &mut Task, schema: usize, state: &State, name: &Term) -> Option<Applicable> {
-        let Some(wanted) = task.consts.from_term(name) else {
-            return self.family(task, schema, state, |n| n == name).into_iter().next();
-        };
+        // Every applicable action has a ground name.
+        let wanted = task.consts.from_term(name)?;
         for member in self.families[schema].clone() {
             self.scratch.clear();
             if self.successors.named(task, member, state, wanted, &mut self.scratch).is_err() {

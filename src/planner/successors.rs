@@ -663,8 +663,11 @@ impl<'p> Successors<'p> {
             return Ok(());
         }
         let in_valid = valid_vars(schema);
-        let preset: Vec<Option<ConstId>> =
-            (0..schema.vars).map(|v| if in_valid.contains(&(v as u32)) { preset[v] } else { None }).collect();
+        for (v, value) in preset.iter_mut().enumerate() {
+            if !in_valid.contains(&(v as u32)) {
+                *value = None;
+            }
+        }
         self.schema_in(task, index, state, (None, None, &preset), out)
     }
 

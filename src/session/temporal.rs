@@ -7,6 +7,7 @@ use crate::ir::hir::{self, Kb};
 use crate::passes::reassign::Rules;
 
 /// What the temporal passes produced for one plan.
+#[derive(Clone)]
 pub struct Timed {
     /// The partial-order plan.
     pub pop: crate::ir::pop::Pop,
@@ -179,17 +180,13 @@ pub(crate) fn reassign(
     (plan, timed): (crate::ir::plan::Plan, Timed),
     moves: Moves,
 ) -> Rearranged {
-    let epsilon = timed.stn.epsilon;
-    let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| plan.clone());
+    let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| (plan.clone(), timed.clone()));
     // One generator for every plan checked (both ways), so that OnKB goals are proven once.
     let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
     let successors = crate::planner::successors::Successors::new(task, engine);
     let mut cx = Rearranging { kb, interner, program, successors, task };
     let varied = reassign_with(&mut cx, (plan, timed), moves, Rules::WithVariants(REASSIGN_VARIANTS));
-    let Some(plan) = again else { return varied };
-    let Some(timed) = schedule(kb, interner, program, &plan, None, epsilon, &mut Diagnostics::new()) else {
-        return varied;
-    };
+    let Some((plan, timed)) = again else { return varied };
     let before = varied.timed.schedule.makespan;
     let fixed = super::timing::time(
         "fixed rules",
