@@ -19,6 +19,7 @@
 
 use std::time::{Duration, Instant};
 
+use crate::ir::stn::UNITS;
 use crate::planner::{Budget, Failure, SearchKind, Silent};
 use crate::session::{PlanError, PlanSettings, Planned, Session};
 use crate::source::SourceDb;
@@ -312,9 +313,18 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   released no earlier than the bottom one, and the top one no earlier than the pair's upper
 ///   one). So the last releases grow by a release a level, and by that cycle every `arms`
 ///   levels.
+///
+/// When every duration the bound asks the KB for, least and greatest, is a whole number of
+/// time units (as in `std/blocks.pl` and the grid KBs), `makespan` is rounded up to a whole
+/// unit. The arguments above never need one happening strictly after another, so they hold
+/// as well with no separation (ε) between happenings. Without it, the earliest schedule of a
+/// plan's order (the shortest makespan of that order) is a longest path over the durations'
+/// bounds alone, a whole number of units at least the bound; with the separations back, no
+/// time is earlier.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LowerBound {
-    /// The bound: the largest of the three.
+    /// The bound: the largest of the three (rounded up to a whole time unit when the
+    /// durations are whole units).
     pub makespan: i64,
     /// The total minimal work and idle time divided among the arms.
     pub work: i64,
@@ -362,6 +372,18 @@ impl Rung {
         let (init, goal) = self.towers();
         let atom = |session: &mut Session, name: &str| Term::Atom(session.intern(name));
         let (arm, block) = (atom(session, "a1"), atom(session, "b1"));
+        // Each least duration the bound uses, noting whether every duration it asks for (least
+        // and greatest) is a whole number of time units (see `LowerBound`: the bound is then
+        // rounded up to one).
+        let whole = std::cell::Cell::new(true);
+        let least = |session: &mut Session, instance: &Term| -> i64 {
+            let (min, max) = session.duration_bounds(0, instance);
+            if min % UNITS != 0 || max.is_some_and(|max| max % UNITS != 0) {
+                whole.set(false);
+            }
+            min
+        };
+        let rounded = |bound: i64| if whole.get() { (bound + UNITS - 1) / UNITS * UNITS } else { bound };
         if self.family == Family::Grid {
             // Each block not on its goal cell moves at least once; no block stands on another,
             // so nothing chains.
@@ -377,22 +399,30 @@ impl Rung {
                     let cell = |v: usize| Term::Int(v as i64);
                     let args =
                         [arm.clone(), block.clone(), cell(start.0), cell(start.1), cell(target.0), cell(target.1)];
-                    works.push(session.min_duration(0, &Term::Compound(move_symbol, Args::from(args))));
+                    works.push(least(session, &Term::Compound(move_symbol, Args::from(args))));
                 }
             }
             let arms = self.arms.max(1) as i64;
             let work = (works.iter().sum::<i64>() + arms - 1) / arms;
             let block = works.iter().copied().max().unwrap_or(0);
-            return LowerBound { makespan: work.max(block), work, block, chain: 0, aside: 0, waiting: 0, idle: 0 };
+            return LowerBound {
+                makespan: rounded(work.max(block)),
+                work,
+                block,
+                chain: 0,
+                aside: 0,
+                waiting: 0,
+                idle: 0,
+            };
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
-        let (grip, release) = (session.min_duration(0, &grip), session.min_duration(0, &release));
+        let (grip, release) = (least(session, &grip), least(session, &release));
         let move_symbol = session.intern("move_block");
         let moving = |session: &mut Session, from: (usize, usize), to: (usize, usize)| -> i64 {
             let cell = |v: usize| Term::Int(v as i64);
             let args = [arm.clone(), block.clone(), cell(from.0), cell(from.1), cell(to.0), cell(to.1)];
-            grip + session.min_duration(0, &Term::Compound(move_symbol, Args::from(args))) + release
+            grip + least(session, &Term::Compound(move_symbol, Args::from(args))) + release
         };
         // Where each block is, and what it stands on (None: the table).
         let place = |towers: &[Tower]| -> std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)> {
@@ -557,7 +587,15 @@ impl Rung {
             }
             chain = chain.max(*ends.last().expect("the first block's"));
         }
-        LowerBound { makespan: work.max(block).max(chain), work, block, chain, aside, waiting: waiting.extra(), idle }
+        LowerBound {
+            makespan: rounded(work.max(block).max(chain)),
+            work,
+            block,
+            chain,
+            aside,
+            waiting: waiting.extra(),
+            idle,
+        }
     }
 
     /// The `arms` least of the times `offsets` (one per block), each also repeated `cycle`

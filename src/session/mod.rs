@@ -1274,15 +1274,21 @@ impl Session {
         std::iter::once(facts(&task.init)).chain(states.iter().map(facts)).collect()
     }
 
-    /// The least duration of the durative action `instance` (such as `grip(a1, b1)`) in STN
-    /// time, as the STN pass takes it from `duration/3` for `problem`: the default (1 time
-    /// unit) when no clause answers or its answer cannot be used.
-    pub fn min_duration(&mut self, problem: usize, instance: &crate::ir::hir::Term) -> i64 {
+    /// The bounds of the durative action `instance` (such as `grip(a1, b1)`) in STN time, as
+    /// the STN pass takes them from `duration/3` for `problem`: its least duration and its
+    /// greatest (`None`: no maximum), or the default (at least 1 time unit, no maximum) when
+    /// no clause answers or its answer cannot be used.
+    pub fn duration_bounds(&mut self, problem: usize, instance: &crate::ir::hir::Term) -> (i64, Option<i64>) {
+        use crate::passes::stn::to_stn_time;
         let program = self.program(problem);
         let mut machine = crate::engine::Machine::new(&program, planner::Budget::default().engine_steps);
-        let default = crate::ir::stn::DEFAULT_DURATION * crate::ir::stn::UNITS;
+        let default = (crate::ir::stn::DEFAULT_DURATION * crate::ir::stn::UNITS, None);
         match crate::passes::stn::query_duration(&mut machine, instance) {
-            Ok(Some((min, _))) => crate::passes::stn::to_stn_time(min).filter(|&m| m >= 0).unwrap_or(default),
+            Ok(Some((min, max))) => match (to_stn_time(min).filter(|&m| m >= 0), max.map(to_stn_time)) {
+                (Some(min), None) => (min, None),
+                (Some(min), Some(Some(max))) if max >= min => (min, Some(max)),
+                _ => default,
+            },
             _ => default,
         }
     }
