@@ -773,6 +773,67 @@ fn relocating_a_block_aside_counts_its_way_on_from_there() {
     assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
 }
 
+#[test]
+fn relocating_a_block_aside_twice_moves_it_on_from_where_it_was_relocated() {
+    // b stands on a at (3,1) and both go to (5,1). The plan puts b aside on (1,2), far off,
+    // moves it on to (2,2), another buffer cell, and only then moves a and puts b on it.
+    // Both of b's trips aside are relocatable, and the second leaves from where the first
+    // went: once the first goes elsewhere, the second must take b from there. (It looked for
+    // b on (1,2), found no move, and the first relocation was banned.)
+    let mut cells: Vec<String> = (1..=5).flat_map(|x| (1..=2).map(move |y| format!("cell({x}, {y}).\n"))).collect();
+    cells.push(
+        "twice :- go(\n  [available(a1), ontable(a, 3, 1), on(b, a, 3, 1), clear(b)],\n  \
+         [available(a1), ontable(a, 5, 1), on(b, a, 5, 1), clear(b)]\n).\n"
+            .to_string(),
+    );
+    let mut session = Session::from_text("twice.pl", cells.concat());
+    let cycle = |block: &str, (x1, y1): (i64, i64), (x2, y2): (i64, i64)| -> Vec<String> {
+        let args = format!("a1, {block}, {x1}, {y1}, {x2}, {y2}");
+        vec![
+            format!("grip_start(a1, {block})"),
+            format!("grip_end(a1, {block})"),
+            format!("move_block_start({args})"),
+            format!("move_block_end({args})"),
+            format!("release_start(a1, {block})"),
+            format!("release_end(a1, {block})"),
+        ]
+    };
+    let steps = [
+        cycle("b", (3, 1), (1, 2)),
+        cycle("b", (1, 2), (2, 2)),
+        cycle("a", (3, 1), (5, 1)),
+        cycle("b", (2, 2), (5, 1)),
+    ]
+    .concat();
+    let text: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
+    let file = session.add_text("twice.plan", text);
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(0, &steps);
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    let plan = verdict.plan;
+    let before = timed(&mut session, &plan).schedule.makespan;
+    let searched = timed(&mut session, &plan);
+    let (relocated, kept) = session.relocate(plan.clone(), searched);
+    let no_vars = kbc::ir::hir::VarTable::default();
+    let moves: Vec<String> = relocated
+        .steps
+        .iter()
+        .map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars))
+        .filter(|name| name.starts_with("move_block_start(a1, b"))
+        .collect();
+    // Three trips of b still, each from where the one before left it, and none to (1,2).
+    assert_eq!(moves.len(), 3, "{moves:#?}");
+    let cells: Vec<Vec<i64>> = moves
+        .iter()
+        .map(|name| name[..name.len() - 1].split(", ").skip(2).map(|v| v.parse().expect("a cell")).collect())
+        .collect();
+    for pair in cells.windows(2) {
+        assert_eq!(pair[0][2..], pair[1][..2], "{moves:#?}");
+    }
+    assert!(cells.iter().all(|c| c[2..] != [1, 2]), "{moves:#?}");
+    assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
+}
+
 /// How long the moves of `timed` hold their blocks beyond their least durations, in all.
 fn move_waits(session: &Session, timed: &Timed) -> i64 {
     let no_vars = kbc::ir::hir::VarTable::default();
