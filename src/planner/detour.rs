@@ -41,12 +41,13 @@
 //! after relocating); the sum over the 52 rungs 2888 -> 2782, 17 -> 20 rungs within 1.3x of
 //! the bound. On reverse_b100_a10 every replay failed (a place ran out where the plan had
 //! one, taken by a relocated block) until the replays protected the plan's own places:
-//! 239 -> 151. Most of those failures were the replay's own: a block relocated on its way
+//! 239 -> 151. Replays also failed for reasons of their own: a block relocated on its way
 //! aside and moved aside again later was looked for where the plan had left it, and a block
 //! sent aside onto the place its next move takes it to stood on its goal place early. With
 //! the later moves renamed and that place left out, every replay of swap_b25_a6_s1 succeeds
 //! at once (each needed four bans and the protection before); the ladder's sums of
-//! makespans (seeds 1/2/3) 2310/2235/2326 -> 2304/2231/2323, 11 rungs shorter, 2 longer.
+//! makespans (seeds 1/2/3) 2310/2235/2326 -> 2304/2231/2323, 8 rungs a unit or more shorter
+//! (swap_b25_a6_s1 48 -> 46, reverse_b100_a8_s1 123 -> 120), 2 a unit longer.
 //!
 //! [`merge`] undoes a decision the other way: a block put aside (by the search or by a
 //! detour) and taken on soon after by another job stays in the first job's arm and goes
