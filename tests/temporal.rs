@@ -834,6 +834,80 @@ fn relocating_a_block_aside_twice_moves_it_on_from_where_it_was_relocated() {
     assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
 }
 
+#[test]
+fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() {
+    // One row of seven cells: p and q trade cells 1 and 2, r and s cells 4 and 5; cells 3, 6
+    // and 7 are the goal's empty ones. The plan puts r aside on 7 and then p on 6, both far.
+    // Cell 3 is the best place for both (r: from 4 to 3 and on to 5, 2 + 3 units of moving;
+    // p: from 1 to 3 and on to 2, 3 + 2), but r does as well on 6 (3 + 2) while p's next best
+    // is 6 (6 + 5). In the plan's order r, first, takes 3 and p stays on 6; by regret p
+    // gets 3 and r goes to 6.
+    let mut text: String = (1..=7).map(|x| format!("cell({x}, 1).\n")).collect();
+    text.push_str(
+        "trade :- go(\n  [available(a1), ontable(p, 1, 1), clear(p), ontable(q, 2, 1), clear(q),\n   \
+         ontable(r, 4, 1), clear(r), ontable(s, 5, 1), clear(s)],\n  \
+         [available(a1), ontable(p, 2, 1), ontable(q, 1, 1), ontable(r, 5, 1), ontable(s, 4, 1)]\n).\n",
+    );
+    let mut session = Session::from_text("trade.pl", text);
+    let cycle = |block: &str, from: i64, to: i64| -> Vec<String> {
+        let args = format!("a1, {block}, {from}, 1, {to}, 1");
+        vec![
+            format!("grip_start(a1, {block})"),
+            format!("grip_end(a1, {block})"),
+            format!("move_block_start({args})"),
+            format!("move_block_end({args})"),
+            format!("release_start(a1, {block})"),
+            format!("release_end(a1, {block})"),
+        ]
+    };
+    let steps =
+        [cycle("r", 4, 7), cycle("p", 1, 6), cycle("q", 2, 1), cycle("p", 6, 2), cycle("s", 5, 4), cycle("r", 7, 5)]
+            .concat();
+    let listed: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
+    let file = session.add_text("trade.plan", listed);
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(0, &steps);
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    let plan = verdict.plan;
+    let no_vars = kbc::ir::hir::VarTable::default();
+    // Each move's least duration, as std/blocks.pl gives it: the distance and one.
+    let mut cost = |_: usize, name: &kbc::ir::hir::Term| -> i64 {
+        let cells: Vec<i64> = name.args()[2..]
+            .iter()
+            .filter_map(|t| match t {
+                kbc::ir::hir::Term::Int(v) => Some(*v),
+                _ => None,
+            })
+            .collect();
+        ((cells[0] - cells[2]).abs() + (cells[1] - cells[3]).abs() + 1) * kbc::ir::stn::UNITS
+    };
+    let mut relocated = |placing: planner::detour::Placing| -> Vec<String> {
+        let mut task = passes::task::build(session.kb(), 0);
+        let program = planner::program_for(session.kb(), 0);
+        let mut successors =
+            planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
+        let found = planner::detour::relocate(&mut successors, &mut task, &plan, (&[], &[]), placing, &mut cost)
+            .unwrap_or_else(|failure| panic!("{placing:?}: no plan: {failure:?}"));
+        let names: Vec<String> = found
+            .plan
+            .steps
+            .iter()
+            .map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars))
+            .collect();
+        let span = session.kb().problems[0].span;
+        let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &found.plan, span));
+        assert!(!verdict.diagnostics.has_errors(), "{placing:?}: {:?}", common::messages(&verdict.diagnostics));
+        names.into_iter().filter(|n| n.starts_with("move_block_start(")).collect()
+    };
+    let in_order = relocated(planner::detour::Placing::InPlanOrder);
+    let by_regret = relocated(planner::detour::Placing::ByRegret);
+    let has = |moves: &[String], wanted: &str| moves.iter().any(|m| m == wanted);
+    assert!(has(&in_order, "move_block_start(a1, r, 4, 1, 3, 1)"), "{in_order:#?}");
+    assert!(has(&in_order, "move_block_start(a1, p, 1, 1, 6, 1)"), "{in_order:#?}");
+    assert!(has(&by_regret, "move_block_start(a1, p, 1, 1, 3, 1)"), "{by_regret:#?}");
+    assert!(has(&by_regret, "move_block_start(a1, r, 4, 1, 6, 1)"), "{by_regret:#?}");
+}
+
 /// How long the moves of `timed` hold their blocks beyond their least durations, in all.
 fn move_waits(session: &Session, timed: &Timed) -> i64 {
     let no_vars = kbc::ir::hir::VarTable::default();

@@ -191,11 +191,16 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// protected). `Rewritten::taken` lists the plan indices of the starts relocated. Every step
 /// comes from the applicable actions of the state reached, so the result is a valid plan;
 /// nothing in it is specific to a domain.
+///
+/// With [`Placing::ByRegret`], each start first looks for the place [`Rewriter::by_regret`]
+/// gives it, all starts considered at once; where that place is not to be had in the replay,
+/// it takes the cheapest as above.
 pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
     (waits, times): (&[i64], &[i64]),
+    placing: Placing,
     cost: &mut dyn FnMut(usize, &Term) -> i64,
 ) -> Result<Rewritten, Failure> {
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
@@ -211,6 +216,10 @@ pub fn relocate(
         })
         .filter(|place| !place.values.is_empty())
         .collect();
+    let preferred = match placing {
+        Placing::InPlanOrder => FxHashMap::default(),
+        Placing::ByRegret => rewriter.by_regret(task, &path, &leaving, &places, cost),
+    };
     // (A replay renames the steps that name a place it relocates: each starts from the plan's.)
     let names = rewriter.names.clone();
     for attempt in 0..RELOCATION_RETRIES {
@@ -219,13 +228,48 @@ pub fn relocate(
         let protected = if attempt < BANS_BEFORE_PROTECTING { &[][..] } else { &places[..] };
         let timing = Timing { waits, times, places: &places };
         rewriter.names.clone_from(&names);
-        match rewriter.replay(task, &path, &leaving, (&banned, protected), timing, cost) {
+        match rewriter.replay(task, &path, &leaving, (&banned, protected, &preferred), timing, cost) {
             Ok((steps, taken)) => return Ok(Rewritten { plan: plan_from(task, &steps), taken }),
             Err(Some((k, values))) => banned.entry(k).or_default().push(values),
             Err(None) => return Err(Failure::Plan),
         }
     }
     Err(Failure::Plan)
+}
+
+/// A place by its family (the first member) and its interned values.
+type PlaceKey = (usize, Vec<ConstId>);
+
+/// The place of `family` named by `values`, interned (`None` when a value is not ground).
+fn place_key(task: &mut Task, family: usize, values: &[Term]) -> Option<PlaceKey> {
+    Some((family, values.iter().map(|v| task.consts.from_term(v)).collect::<Option<Vec<_>>>()?))
+}
+
+/// A relocatable start's choices for [`Rewriter::by_regret`]: over the plan indices
+/// `start..until` its unit is on the place chosen.
+struct Options {
+    start: usize,
+    until: usize,
+    /// Cheapest first.
+    candidates: Vec<Candidate>,
+}
+
+/// A place a relocatable start may take, and what its moves there and on from there cost.
+struct Candidate {
+    cost: i64,
+    place: PlaceKey,
+    values: Vec<Term>,
+}
+
+/// How [`relocate`] chooses places.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placing {
+    /// Each start in the plan's order takes the cheapest place free then: the first start
+    /// to want a place gets it.
+    InPlanOrder,
+    /// Each start first looks for the place a choice over all of them gives it, the start
+    /// that loses most by its second choice served first ([`Rewriter::by_regret`]).
+    ByRegret,
 }
 
 /// What a [`relocate`] replay knows of the plan's schedule: for each step, how long its end
@@ -317,7 +361,7 @@ impl Rewriter<'_, '_> {
         task: &mut Task,
         path: &[Applicable],
         leaving: &[Option<usize>],
-        (banned, protected): (&FxHashMap<usize, Vec<Vec<Term>>>, &[Place]),
+        (banned, protected, preferred): (&FxHashMap<usize, Vec<Vec<Term>>>, &[Place], &FxHashMap<usize, Vec<Term>>),
         timing: Timing<'_>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Result<(Vec<Applicable>, Vec<usize>), Option<(usize, Vec<Term>)>> {
@@ -378,7 +422,9 @@ impl Rewriter<'_, '_> {
                     }
                     (!reserved).then_some((0, None))
                 };
-                let Some((step, old, new)) = self.cheapest(task, path, (k, leaves), &state, free, cost) else {
+                let prefer = preferred.get(&k).map(Vec::as_slice);
+                let Some((step, old, new)) = self.cheapest(task, path, (k, leaves), &state, (free, prefer), cost)
+                else {
                     return Err(blame(&active, &self.names[k]));
                 };
                 state = successors::apply(task, &state, &step);
@@ -424,6 +470,90 @@ impl Rewriter<'_, '_> {
             return Err(active.last().map(|m| (m.start, m.new.clone())));
         }
         Ok((out, taken))
+    }
+
+    /// Where each relocatable start of the plan would best leave its unit, all of them at
+    /// once: its alternatives in the plan's own states (costed as [`Rewriter::cheapest`]
+    /// costs them, the move there and the move on from there, and kept when the start's end
+    /// could apply at once), given out greatest regret first (the start that loses most by
+    /// its second choice; the earliest among equals), no two starts of a family on the same
+    /// values while both units would be there, nor on a place one of the plan's other starts
+    /// takes meanwhile.
+    fn by_regret(
+        &mut self,
+        task: &mut Task,
+        path: &[Applicable],
+        leaving: &[Option<usize>],
+        places: &[Place],
+        cost: &mut dyn FnMut(usize, &Term) -> i64,
+    ) -> FxHashMap<usize, Vec<Term>> {
+        let mut options: Vec<Options> = Vec::new();
+        let mut state = task.init.clone();
+        for (k, action) in path.iter().enumerate() {
+            if let Some(leaves) = leaving[k]
+                && let Some(end) = self.end_index[k].map(|e| path[e].clone())
+            {
+                let old = self.chosen_values(task, path, k);
+                let onward_values = self.chosen_values(task, path, leaves);
+                let (next_action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
+                let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
+                    if values == onward_values {
+                        return None;
+                    }
+                    let (functor, _) = next.callable()?;
+                    let args = substituted(next.args(), &old, values).into_iter().next()?;
+                    Some(cost(next_action, &Term::Compound(functor, args.into())))
+                };
+                let family = self.families[action.schema][0];
+                let mut candidates = Vec::new();
+                for (cost, alternative, values) in self.alternatives(task, path, k, &state, onward, cost) {
+                    let after = successors::apply(task, &state, &alternative);
+                    if values != old && self.end_of(task, &alternative, &end, &after).is_none() {
+                        continue;
+                    }
+                    if let Some(place) = place_key(task, family, &values) {
+                        candidates.push(Candidate { cost, place, values });
+                    }
+                }
+                options.push(Options { start: k, until: leaves, candidates });
+            }
+            state = successors::apply(task, &state, action);
+        }
+        // The places taken: first those of the plan's starts that are not relocatable, while
+        // their units are there.
+        let mut taken: FxHashMap<PlaceKey, Vec<(usize, usize)>> = FxHashMap::default();
+        for place in places.iter().filter(|place| leaving[place.from].is_none()) {
+            if let Some(key) = place_key(task, place.family, &place.values) {
+                taken.entry(key).or_default().push((place.from, place.until));
+            }
+        }
+        let free = |taken: &FxHashMap<PlaceKey, Vec<(usize, usize)>>, option: &Options, candidate: &Candidate| {
+            taken
+                .get(&candidate.place)
+                .is_none_or(|spans| spans.iter().all(|&(from, until)| until <= option.start || from >= option.until))
+        };
+        let mut preferred = FxHashMap::default();
+        let mut open: Vec<usize> = (0..options.len()).collect();
+        loop {
+            // The open option with the greatest regret.
+            let mut pick: Option<(i64, usize)> = None;
+            for (i, &o) in open.iter().enumerate() {
+                let option = &options[o];
+                let mut costs = option.candidates.iter().filter(|c| free(&taken, option, c)).map(|c| c.cost);
+                let Some(best) = costs.next() else { continue };
+                let regret = costs.next().map_or(i64::MAX, |second| second - best);
+                if pick.is_none_or(|(most, _)| regret > most) {
+                    pick = Some((regret, i));
+                }
+            }
+            let Some((_, i)) = pick else { break };
+            let option = &options[open.remove(i)];
+            if let Some(best) = option.candidates.iter().find(|c| free(&taken, option, c)) {
+                taken.entry(best.place.clone()).or_default().push((option.start, option.until));
+                preferred.insert(option.start, best.values.clone());
+            }
+        }
+        preferred
     }
 
     /// After relocatable start `k` took the chosen values `new` instead of `old`, the steps
@@ -511,7 +641,7 @@ impl Rewriter<'_, '_> {
         path: &[Applicable],
         (k, leaves): (usize, usize),
         state: &State,
-        free: impl Fn(usize, &[Term]) -> Option<(i64, Option<i64>)>,
+        (free, prefer): (impl Fn(usize, &[Term]) -> Option<(i64, Option<i64>)>, Option<&[Term]>),
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
         let old = self.chosen_values(task, path, k);
@@ -539,9 +669,12 @@ impl Rewriter<'_, '_> {
             let args = substituted(next.args(), &old, values).into_iter().next()?;
             Some(extra.saturating_add(cost(action, &Term::Compound(functor, args.into()))))
         };
-        let ranked = self.alternatives(task, path, k, state, onward, cost);
+        let mut ranked = self.alternatives(task, path, k, state, onward, cost);
+        if let Some(at) = prefer.and_then(|p| ranked.iter().position(|(_, _, values)| values[..] == *p)) {
+            ranked[..=at].rotate_right(1);
+        }
         let end = self.end_index[k].map(|e| path[e].clone())?;
-        for (alternative, values) in ranked {
+        for (_, alternative, values) in ranked {
             // (The plan's own values may wait for their end, as they did in the plan.)
             let next = successors::apply(task, state, &alternative);
             let later = free(family, &values).is_some_and(|(_, ready)| ready.is_some());
@@ -1024,7 +1157,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             cost,
         );
         let end = &path[h.end];
-        for (alternative, values) in ranked {
+        for (_, alternative, values) in ranked {
             let mut next = successors::apply(task, state, &alternative);
             let Some(finish) = self.end_of(task, &alternative, end, &next) else { continue };
             next = successors::apply(task, &next, &finish);
@@ -1055,7 +1188,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
         state: &State,
         keep: impl Fn(&[Term], &mut dyn FnMut(usize, &Term) -> i64) -> Option<i64>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
-    ) -> Vec<(Applicable, Vec<Term>)> {
+    ) -> Vec<(i64, Applicable, Vec<Term>)> {
         let schema = path[k].schema;
         let positions = chosen_positions(task, schema);
         let wanted = self.names[k].args().to_vec();
@@ -1076,7 +1209,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             })
             .collect();
         ranked.sort_by_key(|(c, other, i, _, _)| (*c, *other, *i));
-        ranked.into_iter().take(ALTERNATIVES).map(|(_, _, _, a, values)| (a, values)).collect()
+        ranked.into_iter().take(ALTERNATIVES).map(|(cost, _, _, a, values)| (cost, a, values)).collect()
     }
 
     /// Takes the plan's steps `ks` again from `state`, each the applicable action named as
