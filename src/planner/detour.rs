@@ -497,7 +497,7 @@ impl Rewriter<'_, '_> {
                 let onward_values = self.chosen_values(task, path, leaves);
                 let (next_action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
                 let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
-                    if values == onward_values {
+                    if values == onward_values && values != old {
                         return None;
                     }
                     let (functor, _) = next.callable()?;
@@ -651,10 +651,10 @@ impl Rewriter<'_, '_> {
         let (own_action, own) = (task.schemas[path[k].schema].action, self.names[k].clone());
         // Where the start that leaves takes the unit on: not a place to leave it on meanwhile
         // (the plan would take it from there to there; a block would stand on its goal place
-        // early, and its grip there be refused).
+        // early, and its grip there be refused), unless the plan does.
         let onward_values = self.chosen_values(task, path, leaves);
         let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
-            if values == onward_values {
+            if values == onward_values && values != old {
                 return None;
             }
             let (mut extra, ready) = free(family, values)?;
