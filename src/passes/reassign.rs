@@ -413,6 +413,18 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
     let mut started: Vec<bool> = vec![false; problem.jobs.len()];
     let mut bound: Vec<i64> = vec![0; n];
     let mut now = 0i64;
+    // The steps whose predecessors are all placed (the only ones that can be placed next),
+    // kept up to date from each step's successors and how many of its predecessors are not
+    // placed yet: choosing a step looks at these, not at every step (the choice is the least
+    // of a total order, so the order of the list does not matter).
+    let mut succs: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut missing: Vec<usize> = problem.preds.iter().map(Vec::len).collect();
+    for (s, preds) in problem.preds.iter().enumerate() {
+        for &(p, _) in preds {
+            succs[p].push(s);
+        }
+    }
+    let mut ready: Vec<usize> = (0..n).filter(|&i| missing[i] == 0).collect();
     // Whether the bounds must be worked out again: they change only when `now` moves on or
     // a step is placed later than its bound.
     let mut stale = true;
@@ -440,7 +452,7 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         let units = Units { free_at: &free_at, held: &held, started: &started };
         let mut best = None;
         for reserving in [rule.reserve, false] {
-            best = next_step(problem, rule, (&time, &bound), units, reserving.then_some(waiting));
+            best = next_step(problem, rule, (&time, &bound, &ready), units, reserving.then_some(waiting));
             if best.is_some() || !reserving {
                 break;
             }
@@ -448,6 +460,13 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         let ((at, _, i), unit) = best?; // deadlock: nothing can be placed
         stale = at != now || at != bound[i];
         time[i] = Some(at);
+        ready.retain(|&r| r != i);
+        for &s in &succs[i] {
+            missing[s] -= 1;
+            if missing[s] == 0 {
+                ready.push(s);
+            }
+        }
         bound[i] = at;
         now = at;
         if let (Some(j), Some(unit)) = (problem.job_of[i], unit) {
@@ -475,7 +494,8 @@ struct Units<'a> {
     started: &'a [bool],
 }
 
-/// The step of [`simulate`] to place next, with the unit it takes if it starts a job: the one
+/// The step of [`simulate`] to place next (of the `ready` ones, whose predecessors are all
+/// placed), with the unit it takes if it starts a job: the one
 /// that can happen first, then the most urgent (or first in plan order), given the placed
 /// steps' times and the others' lower bounds. With `reserve` (how many started jobs wait for a
 /// job not started yet), a job that would wait so too starts only if it leaves a free unit for
@@ -483,16 +503,13 @@ struct Units<'a> {
 fn next_step(
     problem: &Problem,
     rule: Rule,
-    (time, bound): (&[Option<i64>], &[i64]),
+    (time, bound, ready): (&[Option<i64>], &[i64], &[usize]),
     units: Units<'_>,
     reserve: Option<usize>,
 ) -> Option<((i64, i64, usize), Option<usize>)> {
-    let n = problem.snaps.len();
     let mut best: Option<((i64, i64, usize), Option<usize>)> = None; // ((time, rank, step), unit)
-    for i in 0..n {
-        if time[i].is_some() || problem.preds[i].iter().any(|&(p, _)| time[p].is_none()) {
-            continue;
-        }
+    for &i in ready {
+        debug_assert!(time[i].is_none() && problem.preds[i].iter().all(|&(p, _)| time[p].is_some()));
         let ready = bound[i];
         let job = problem.job_of[i];
         let (at, unit) = match job {
