@@ -724,52 +724,68 @@ fn relocating_keeps_the_plans_places_when_relocations_keep_conflicting() {
     );
 }
 
+/// The six snap actions of one cycle of arm a1 (grip, move, release) taking `block` from cell
+/// `from` to cell `to`, as a plan file names them.
+fn cycle(block: &str, (x1, y1): (i64, i64), (x2, y2): (i64, i64)) -> Vec<String> {
+    let args = format!("a1, {block}, {x1}, {y1}, {x2}, {y2}");
+    vec![
+        format!("grip_start(a1, {block})"),
+        format!("grip_end(a1, {block})"),
+        format!("move_block_start({args})"),
+        format!("move_block_end({args})"),
+        format!("release_start(a1, {block})"),
+        format!("release_end(a1, {block})"),
+    ]
+}
+
+/// A session on the standard blocks world with the table `cells` and one problem, `name`,
+/// from `init` to `goal` (arm a1 available in both).
+fn one_arm_problem(name: &str, cells: &[(i64, i64)], init: &str, goal: &str) -> Session {
+    let mut text: String = cells.iter().map(|(x, y)| format!("cell({x}, {y}).\n")).collect();
+    text.push_str(&format!("{name} :- go(\n  [available(a1), {init}],\n  [available(a1), {goal}]\n).\n"));
+    Session::from_text(&format!("{name}.pl"), text)
+}
+
+/// The plan of `steps` (a plan file's lines, numbered here), read and validated.
+fn read_plan(session: &mut Session, steps: &[String]) -> Plan {
+    let text: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
+    let file = session.add_text("hand.plan", text);
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(0, &steps);
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    verdict.plan
+}
+
+/// The names of `plan`'s moves of blocks (their starts).
+fn move_starts(session: &Session, plan: &Plan) -> Vec<String> {
+    let no_vars = kbc::ir::hir::VarTable::default();
+    plan.steps
+        .iter()
+        .map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars))
+        .filter(|name| name.starts_with("move_block_start("))
+        .collect()
+}
+
+/// The cells of a table five wide and two deep.
+fn five_by_two() -> Vec<(i64, i64)> {
+    (1..=5).flat_map(|x| (1..=2).map(move |y| (x, y))).collect()
+}
+
 #[test]
 fn relocating_a_block_aside_counts_its_way_on_from_there() {
     // b stands on a at (3,1) and both go to (5,1): b is put aside while a moves. The plan
     // puts it on (2,1); (4,1) is as near, and on the way: the relocation takes the cell whose
     // move there and move on from there cost least together, not the first of the nearest.
-    let mut cells: Vec<String> = (1..=5).flat_map(|x| (1..=2).map(move |y| format!("cell({x}, {y}).\n"))).collect();
-    cells.push(
-        "aside :- go(\n  [available(a1), ontable(a, 3, 1), on(b, a, 3, 1), clear(b)],\n  \
-         [available(a1), ontable(a, 5, 1), on(b, a, 5, 1), clear(b)]\n).\n"
-            .to_string(),
-    );
-    let mut session = Session::from_text("aside.pl", cells.concat());
-    let steps = [
-        "grip_start(a1, b)",
-        "grip_end(a1, b)",
-        "move_block_start(a1, b, 3, 1, 2, 1)",
-        "move_block_end(a1, b, 3, 1, 2, 1)",
-        "release_start(a1, b)",
-        "release_end(a1, b)",
-        "grip_start(a1, a)",
-        "grip_end(a1, a)",
-        "move_block_start(a1, a, 3, 1, 5, 1)",
-        "move_block_end(a1, a, 3, 1, 5, 1)",
-        "release_start(a1, a)",
-        "release_end(a1, a)",
-        "grip_start(a1, b)",
-        "grip_end(a1, b)",
-        "move_block_start(a1, b, 2, 1, 5, 1)",
-        "move_block_end(a1, b, 2, 1, 5, 1)",
-        "release_start(a1, b)",
-        "release_end(a1, b)",
-    ];
-    let text: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
-    let file = session.add_text("aside.plan", text);
-    let steps = session.read_plan_steps(file).expect("a plan file");
-    let verdict = session.validate(0, &steps);
-    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
-    let plan = verdict.plan;
+    let (init, goal) = ("ontable(a, 3, 1), on(b, a, 3, 1), clear(b)", "ontable(a, 5, 1), on(b, a, 5, 1), clear(b)");
+    let mut session = one_arm_problem("aside", &five_by_two(), init, goal);
+    let steps = [cycle("b", (3, 1), (2, 1)), cycle("a", (3, 1), (5, 1)), cycle("b", (2, 1), (5, 1))].concat();
+    let plan = read_plan(&mut session, &steps);
     let before = timed(&mut session, &plan).schedule.makespan;
     let searched = timed(&mut session, &plan);
     let (relocated, kept) = session.relocate(plan.clone(), searched);
-    let no_vars = kbc::ir::hir::VarTable::default();
-    let names: Vec<String> =
-        relocated.steps.iter().map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars)).collect();
-    assert!(names.contains(&"move_block_start(a1, b, 3, 1, 4, 1)".to_string()), "{names:#?}");
-    assert!(names.contains(&"move_block_start(a1, b, 4, 1, 5, 1)".to_string()), "{names:#?}");
+    let moves = move_starts(&session, &relocated);
+    assert!(moves.contains(&"move_block_start(a1, b, 3, 1, 4, 1)".to_string()), "{moves:#?}");
+    assert!(moves.contains(&"move_block_start(a1, b, 4, 1, 5, 1)".to_string()), "{moves:#?}");
     assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
 }
 
@@ -780,24 +796,8 @@ fn relocating_a_block_aside_twice_moves_it_on_from_where_it_was_relocated() {
     // Both of b's trips aside are relocatable, and the second leaves from where the first
     // went: once the first goes elsewhere, the second must take b from there. (It looked for
     // b on (1,2), found no move, and the first relocation was banned.)
-    let mut cells: Vec<String> = (1..=5).flat_map(|x| (1..=2).map(move |y| format!("cell({x}, {y}).\n"))).collect();
-    cells.push(
-        "twice :- go(\n  [available(a1), ontable(a, 3, 1), on(b, a, 3, 1), clear(b)],\n  \
-         [available(a1), ontable(a, 5, 1), on(b, a, 5, 1), clear(b)]\n).\n"
-            .to_string(),
-    );
-    let mut session = Session::from_text("twice.pl", cells.concat());
-    let cycle = |block: &str, (x1, y1): (i64, i64), (x2, y2): (i64, i64)| -> Vec<String> {
-        let args = format!("a1, {block}, {x1}, {y1}, {x2}, {y2}");
-        vec![
-            format!("grip_start(a1, {block})"),
-            format!("grip_end(a1, {block})"),
-            format!("move_block_start({args})"),
-            format!("move_block_end({args})"),
-            format!("release_start(a1, {block})"),
-            format!("release_end(a1, {block})"),
-        ]
-    };
+    let (init, goal) = ("ontable(a, 3, 1), on(b, a, 3, 1), clear(b)", "ontable(a, 5, 1), on(b, a, 5, 1), clear(b)");
+    let mut session = one_arm_problem("twice", &five_by_two(), init, goal);
     let steps = [
         cycle("b", (3, 1), (1, 2)),
         cycle("b", (1, 2), (2, 2)),
@@ -805,22 +805,12 @@ fn relocating_a_block_aside_twice_moves_it_on_from_where_it_was_relocated() {
         cycle("b", (2, 2), (5, 1)),
     ]
     .concat();
-    let text: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
-    let file = session.add_text("twice.plan", text);
-    let steps = session.read_plan_steps(file).expect("a plan file");
-    let verdict = session.validate(0, &steps);
-    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
-    let plan = verdict.plan;
+    let plan = read_plan(&mut session, &steps);
     let before = timed(&mut session, &plan).schedule.makespan;
     let searched = timed(&mut session, &plan);
     let (relocated, kept) = session.relocate(plan.clone(), searched);
-    let no_vars = kbc::ir::hir::VarTable::default();
-    let moves: Vec<String> = relocated
-        .steps
-        .iter()
-        .map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars))
-        .filter(|name| name.starts_with("move_block_start(a1, b"))
-        .collect();
+    let moves: Vec<String> =
+        move_starts(&session, &relocated).into_iter().filter(|m| m.starts_with("move_block_start(a1, b")).collect();
     // Three trips of b still, each from where the one before left it, and none to (1,2).
     assert_eq!(moves.len(), 3, "{moves:#?}");
     let cells: Vec<Vec<i64>> = moves
@@ -842,34 +832,22 @@ fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() 
     // p: from 1 to 3 and on to 2, 3 + 2), but r does as well on 6 (3 + 2) while p's next best
     // is 6 (6 + 5). In the plan's order r, first, takes 3 and p stays on 6; by regret p
     // gets 3 and r goes to 6.
-    let mut text: String = (1..=7).map(|x| format!("cell({x}, 1).\n")).collect();
-    text.push_str(
-        "trade :- go(\n  [available(a1), ontable(p, 1, 1), clear(p), ontable(q, 2, 1), clear(q),\n   \
-         ontable(r, 4, 1), clear(r), ontable(s, 5, 1), clear(s)],\n  \
-         [available(a1), ontable(p, 2, 1), ontable(q, 1, 1), ontable(r, 5, 1), ontable(s, 4, 1)]\n).\n",
-    );
-    let mut session = Session::from_text("trade.pl", text);
-    let cycle = |block: &str, from: i64, to: i64| -> Vec<String> {
-        let args = format!("a1, {block}, {from}, 1, {to}, 1");
-        vec![
-            format!("grip_start(a1, {block})"),
-            format!("grip_end(a1, {block})"),
-            format!("move_block_start({args})"),
-            format!("move_block_end({args})"),
-            format!("release_start(a1, {block})"),
-            format!("release_end(a1, {block})"),
-        ]
-    };
-    let steps =
-        [cycle("r", 4, 7), cycle("p", 1, 6), cycle("q", 2, 1), cycle("p", 6, 2), cycle("s", 5, 4), cycle("r", 7, 5)]
-            .concat();
-    let listed: String = steps.iter().enumerate().map(|(i, s)| format!("{} {s}\n", i + 1)).collect();
-    let file = session.add_text("trade.plan", listed);
-    let steps = session.read_plan_steps(file).expect("a plan file");
-    let verdict = session.validate(0, &steps);
-    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
-    let plan = verdict.plan;
-    let no_vars = kbc::ir::hir::VarTable::default();
+    let cells: Vec<(i64, i64)> = (1..=7).map(|x| (x, 1)).collect();
+    let init = "ontable(p, 1, 1), clear(p), ontable(q, 2, 1), clear(q), ontable(r, 4, 1), clear(r), \
+                ontable(s, 5, 1), clear(s)";
+    let goal = "ontable(p, 2, 1), ontable(q, 1, 1), ontable(r, 5, 1), ontable(s, 4, 1)";
+    let mut session = one_arm_problem("trade", &cells, init, goal);
+    let row = |x: i64| (x, 1);
+    let steps = [
+        cycle("r", row(4), row(7)),
+        cycle("p", row(1), row(6)),
+        cycle("q", row(2), row(1)),
+        cycle("p", row(6), row(2)),
+        cycle("s", row(5), row(4)),
+        cycle("r", row(7), row(5)),
+    ]
+    .concat();
+    let plan = read_plan(&mut session, &steps);
     // Each move's least duration, as std/blocks.pl gives it: the distance and one.
     let mut cost = |_: usize, name: &kbc::ir::hir::Term| -> i64 {
         let cells: Vec<i64> = name.args()[2..]
@@ -888,16 +866,10 @@ fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() 
             planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
         let found = planner::detour::relocate(&mut successors, &mut task, &plan, (&[], &[]), placing, &mut cost)
             .unwrap_or_else(|failure| panic!("{placing:?}: no plan: {failure:?}"));
-        let names: Vec<String> = found
-            .plan
-            .steps
-            .iter()
-            .map(|s| kbc::ir::hir::term_to_string(session.interner(), &s.name, &no_vars))
-            .collect();
         let span = session.kb().problems[0].span;
         let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &found.plan, span));
         assert!(!verdict.diagnostics.has_errors(), "{placing:?}: {:?}", common::messages(&verdict.diagnostics));
-        names.into_iter().filter(|n| n.starts_with("move_block_start(")).collect()
+        move_starts(&session, &found.plan)
     };
     let in_order = relocated(planner::detour::Placing::InPlanOrder);
     let by_regret = relocated(planner::detour::Placing::ByRegret);
