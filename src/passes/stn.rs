@@ -32,6 +32,16 @@ pub(crate) fn to_stn_time(value: f64) -> Option<i64> {
     (scaled.is_finite() && scaled.abs() < 1e15).then_some(scaled as i64)
 }
 
+/// The bounds `duration/3` gave, `min` and `max` (`None`: `inf`), in STN time; `None` when
+/// one is out of range (the least negative, or either too large).
+pub(crate) fn to_stn_bounds(min: f64, max: Option<f64>) -> Option<(i64, Option<i64>)> {
+    let min = to_stn_time(min).filter(|&m| m >= 0)?;
+    match max {
+        None => Some((min, None)),
+        Some(max) => Some((min, Some(to_stn_time(max)?))),
+    }
+}
+
 /// The bounds `duration(instance, Min, Max)` gives (a maximum of `None` for `inf`), or why
 /// not: `Ok(None)` when no clause answers.
 pub(crate) fn query_duration(machine: &mut Machine<'_>, instance: &Term) -> Result<Option<(f64, Option<f64>)>, String> {
@@ -96,31 +106,26 @@ pub fn build(kb: &Kb, interner: &Interner, program: &Program, pop: &Pop, epsilon
             })
             .map(|c| c.span);
         let bounds = match query_duration(&mut machine, &instance) {
-            Ok(Some((min, max))) => {
-                let max_time = max.map(to_stn_time);
-                match (to_stn_time(min), max_time) {
-                    (Some(min), Some(Some(_)) | None) if min >= 0 => Bounds {
-                        min,
-                        max: max_time.flatten(),
-                        source: clause_span.map_or(DurationSource::Default, DurationSource::Clause),
-                    },
-                    _ => {
-                        let mut diagnostic = Diagnostic::error(
-                            codes::BAD_DURATION_VALUE,
-                            format!("the duration of `{shown}` is out of range"),
-                        )
-                        .with_note(format!(
-                            "`duration/3` gave [{min}, {}] time units",
-                            max.map_or("inf".to_string(), |m| m.to_string())
-                        ));
-                        if let Some(span) = clause_span {
-                            diagnostic = diagnostic.primary(span, "this clause");
-                        }
-                        diags.push(diagnostic);
-                        default_bounds()
-                    }
+            Ok(Some((min, max))) => match to_stn_bounds(min, max) {
+                Some((min, max)) => {
+                    Bounds { min, max, source: clause_span.map_or(DurationSource::Default, DurationSource::Clause) }
                 }
-            }
+                None => {
+                    let mut diagnostic = Diagnostic::error(
+                        codes::BAD_DURATION_VALUE,
+                        format!("the duration of `{shown}` is out of range"),
+                    )
+                    .with_note(format!(
+                        "`duration/3` gave [{min}, {}] time units",
+                        max.map_or("inf".to_string(), |m| m.to_string())
+                    ));
+                    if let Some(span) = clause_span {
+                        diagnostic = diagnostic.primary(span, "this clause");
+                    }
+                    diags.push(diagnostic);
+                    default_bounds()
+                }
+            },
             Ok(None) => {
                 let action = &kb.actions[pop.steps[start].action];
                 if !warned.contains(&action.base) {

@@ -45,7 +45,7 @@
 //! aside and moved aside again later was looked for where the plan had left it, and a block
 //! sent aside onto the place its next move takes it to stood on its goal place early. With
 //! the later moves renamed and that place left out, every replay of swap_b25_a6_s1 succeeds
-//! at once (each needed four bans and the protection before); the ladder's sums of
+//! at once (most needed four bans or more, and the protection, before); the ladder's sums of
 //! makespans (seeds 1/2/3) 2310/2235/2326 -> 2304/2231/2323, 8 rungs a unit or more shorter
 //! (swap_b25_a6_s1 48 -> 46, reverse_b100_a8_s1 123 -> 120), 2 a unit longer.
 //!
@@ -237,6 +237,41 @@ pub fn relocate(
     Err(Failure::Plan)
 }
 
+/// The positions at which `args` name `values` in a row, the window touching none of `own`
+/// (the step's own chosen positions): where a step names a place it leaves from.
+fn place_windows<'a>(args: &'a [Term], values: &'a [Term], own: &'a [usize]) -> impl Iterator<Item = usize> + 'a {
+    let len = values.len();
+    (0..=args.len().saturating_sub(len)).filter(move |&p| {
+        p + len <= args.len() && args[p..p + len] == *values && (p..p + len).all(|q| !own.contains(&q))
+    })
+}
+
+/// The start that leaves a relocatable start's place (the later start of its action that
+/// moves the same thing on), to cost a place as the way on from there.
+struct Onward {
+    /// The relocatable start's own chosen values, and those of the start that leaves.
+    old: Vec<Term>,
+    to: Vec<Term>,
+    /// The leaving start's action and name.
+    action: usize,
+    name: Term,
+}
+
+impl Onward {
+    /// The least duration of the start that leaves, named with `values` instead of the plan's
+    /// place; `None` for the place it takes the unit to (unless the plan's own): not a place
+    /// to leave the unit on meanwhile (the plan would take it from there to there; a block
+    /// would stand on its goal place early, and its grip there be refused).
+    fn cost(&self, values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64) -> Option<i64> {
+        if values == self.to && values != self.old {
+            return None;
+        }
+        let (functor, _) = self.name.callable()?;
+        let args = substituted(self.name.args(), &self.old, values).into_iter().next()?;
+        Some(cost(self.action, &Term::Compound(functor, args.into())))
+    }
+}
+
 /// A place by its family (the first member) and its interned values.
 type PlaceKey = (usize, Vec<ConstId>);
 
@@ -340,12 +375,9 @@ impl Rewriter<'_, '_> {
                 }
                 let args = self.names[l].args();
                 let own = chosen_positions(task, path[l].schema);
-                (0..=args.len().saturating_sub(values.len())).any(|p| {
+                place_windows(args, &values, &own).any(|p| {
                     let window = p..p + values.len();
-                    window.end <= args.len()
-                        && args[window.clone()] == *values
-                        && window.clone().all(|q| !own.contains(&q))
-                        && moved.iter().any(|&q| !window.contains(&q) && q < args.len() && args[q] == name[q])
+                    moved.iter().any(|&q| !window.contains(&q) && q < args.len() && args[q] == name[q])
                 })
             });
         }
@@ -493,22 +525,13 @@ impl Rewriter<'_, '_> {
             if let Some(leaves) = leaving[k]
                 && let Some(end) = self.end_index[k].map(|e| path[e].clone())
             {
-                let old = self.chosen_values(task, path, k);
-                let onward_values = self.chosen_values(task, path, leaves);
-                let (next_action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
-                let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
-                    if values == onward_values && values != old {
-                        return None;
-                    }
-                    let (functor, _) = next.callable()?;
-                    let args = substituted(next.args(), &old, values).into_iter().next()?;
-                    Some(cost(next_action, &Term::Compound(functor, args.into())))
-                };
+                let onward = self.onward(task, path, (k, leaves));
+                let keep = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| onward.cost(values, cost);
                 let family = self.families[action.schema][0];
                 let mut candidates = Vec::new();
-                for (cost, alternative, values) in self.alternatives(task, path, k, &state, onward, cost) {
+                for (cost, alternative, values) in self.alternatives(task, path, k, &state, keep, cost) {
                     let after = successors::apply(task, &state, &alternative);
-                    if values != old && self.end_of(task, &alternative, &end, &after).is_none() {
+                    if values != onward.old && self.end_of(task, &alternative, &end, &after).is_none() {
                         continue;
                     }
                     if let Some(place) = place_key(task, family, &values) {
@@ -586,14 +609,7 @@ impl Rewriter<'_, '_> {
             self.names[end] = renamed;
         }
         let own = chosen_positions(task, path[leaves].schema);
-        let args = self.names[leaves].args();
-        let Some(at) = args
-            .windows(old.len().max(1))
-            .enumerate()
-            .position(|(p, window)| window == old && (p..p + old.len()).all(|q| !own.contains(&q)))
-        else {
-            return;
-        };
+        let Some(at) = place_windows(self.names[leaves].args(), old, &own).next() else { return };
         for step in std::iter::once(leaves).chain(self.end_index[leaves]) {
             if let Some(renamed) = rename(&self.names[step], at) {
                 self.names[step] = renamed;
@@ -644,32 +660,23 @@ impl Rewriter<'_, '_> {
         (free, prefer): (impl Fn(usize, &[Term]) -> Option<(i64, Option<i64>)>, Option<&[Term]>),
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Option<(Applicable, Vec<Term>, Vec<Term>)> {
-        let old = self.chosen_values(task, path, k);
         let family = self.families[path[k].schema][0];
         // The start that leaves from there, named with the values instead of the plan's.
-        let (action, next) = (task.schemas[path[leaves].schema].action, self.names[leaves].clone());
+        let onward = self.onward(task, path, (k, leaves));
+        let old = &onward.old;
         let (own_action, own) = (task.schemas[path[k].schema].action, self.names[k].clone());
-        // Where the start that leaves takes the unit on: not a place to leave it on meanwhile
-        // (the plan would take it from there to there; a block would stand on its goal place
-        // early, and its grip there be refused), unless the plan does.
-        let onward_values = self.chosen_values(task, path, leaves);
-        let onward = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
-            if values == onward_values && values != old {
-                return None;
-            }
+        let keep = |values: &[Term], cost: &mut dyn FnMut(usize, &Term) -> i64| -> Option<i64> {
             let (mut extra, ready) = free(family, values)?;
             if let Some(ready) = ready {
                 // A place still taken: the time it is free after the start, beyond the
                 // start's own least duration, is spent waiting.
                 let (functor, _) = own.callable()?;
-                let args = substituted(own.args(), &old, values).into_iter().next()?;
+                let args = substituted(own.args(), old, values).into_iter().next()?;
                 extra = (ready - cost(own_action, &Term::Compound(functor, args.into()))).max(0);
             }
-            let (functor, _) = next.callable()?;
-            let args = substituted(next.args(), &old, values).into_iter().next()?;
-            Some(extra.saturating_add(cost(action, &Term::Compound(functor, args.into()))))
+            Some(extra.saturating_add(onward.cost(values, cost)?))
         };
-        let mut ranked = self.alternatives(task, path, k, state, onward, cost);
+        let mut ranked = self.alternatives(task, path, k, state, keep, cost);
         if let Some(at) = prefer.and_then(|p| ranked.iter().position(|(_, _, values)| values[..] == *p)) {
             ranked[..=at].rotate_right(1);
         }
@@ -678,8 +685,8 @@ impl Rewriter<'_, '_> {
             // (The plan's own values may wait for their end, as they did in the plan.)
             let next = successors::apply(task, state, &alternative);
             let later = free(family, &values).is_some_and(|(_, ready)| ready.is_some());
-            if values == old || later || self.end_of(task, &alternative, &end, &next).is_some() {
-                return Some((alternative, old, values));
+            if values == *old || later || self.end_of(task, &alternative, &end, &next).is_some() {
+                return Some((alternative, old.clone(), values));
             }
         }
         None
@@ -1167,6 +1174,16 @@ impl<'s, 'p> Rewriter<'s, 'p> {
             }
         }
         None
+    }
+
+    /// The start `leaves` that leaves relocatable start `k`'s place, for costing places.
+    fn onward(&self, task: &Task, path: &[Applicable], (k, leaves): (usize, usize)) -> Onward {
+        Onward {
+            old: self.chosen_values(task, path, k),
+            to: self.chosen_values(task, path, leaves),
+            action: task.schemas[path[leaves].schema].action,
+            name: self.names[leaves].clone(),
+        }
     }
 
     /// The chosen values of step `k` (at [`chosen_positions`]).

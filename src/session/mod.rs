@@ -1279,16 +1279,11 @@ impl Session {
     /// greatest (`None`: no maximum), or the default (at least 1 time unit, no maximum) when
     /// no clause answers or its answer cannot be used.
     pub fn duration_bounds(&mut self, problem: usize, instance: &crate::ir::hir::Term) -> (i64, Option<i64>) {
-        use crate::passes::stn::to_stn_time;
         let program = self.program(problem);
         let mut machine = crate::engine::Machine::new(&program, planner::Budget::default().engine_steps);
         let default = (crate::ir::stn::DEFAULT_DURATION * crate::ir::stn::UNITS, None);
         match crate::passes::stn::query_duration(&mut machine, instance) {
-            Ok(Some((min, max))) => match (to_stn_time(min).filter(|&m| m >= 0), max.map(to_stn_time)) {
-                (Some(min), None) => (min, None),
-                (Some(min), Some(Some(max))) if max >= min => (min, Some(max)),
-                _ => default,
-            },
+            Ok(Some((min, max))) => crate::passes::stn::to_stn_bounds(min, max).unwrap_or(default),
             _ => default,
         }
     }

@@ -670,7 +670,8 @@ fn relocated(
 /// Measured on the ladder (`kbc bench --search heuristic`, seeds 1/2/3, one run each):
 /// - instead of the plan order, in every relocation: as often longer as shorter (sums of
 ///   makespans 2304/2231/2323 -> 2285/2248/2337; build_b08_a3_s3 21 -> 19, reverse_b10_a4_s3
-///   28 -> 30), and twice as slow on the largest rungs;
+///   28 -> 30), and up to twice as slow on the largest rungs (reverse_b100_a8_s1 1.8 ->
+///   4.8 s);
 /// - besides it, in every relocation of plans up to this size: 13 rungs shorter by a unit or
 ///   two and none longer (2304/2231/2323 -> 2299/2225/2318), but a quarter more time on the
 ///   25- to 50-block rungs (swap_b25_a6_s1 0.8 -> 1.0 s), more than the gain is worth;
