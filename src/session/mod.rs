@@ -378,6 +378,9 @@ pub struct Session {
     /// (`temporal::ReassignedMakespan`), for [`Session::schedule_best`] to take rather than
     /// run the passes on it again.
     reassigned: Option<(Plan, temporal::Rearranged)>,
+    /// What the passes `reassign` runs made of the plans given them (`temporal::Memo`), for
+    /// the plans the same `plan` gives them again; dropped when `plan` ends.
+    memo: temporal::Memo,
 }
 
 impl Session {
@@ -423,6 +426,7 @@ impl Session {
             prepared: None,
             plans: Vec::new(),
             reassigned: None,
+            memo: temporal::Memo::default(),
             arm_problems: Vec::new(),
             groundings: Vec::new(),
         }
@@ -605,6 +609,7 @@ impl Session {
         // (The session's task, built above once and verified, serves the passes after it.)
         let task = &mut crate::passes::task::build(kb, problem);
         let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
+        scorer.memo = std::mem::take(&mut self.memo);
         let scored = settings.scored();
         let prepared = &mut self.prepared;
         let outcome = timing::time(
@@ -623,6 +628,7 @@ impl Session {
                 format!("{found}; set-up {setup:.3} s{kept}; {}", stats_line(&outcome.stats))
             },
         );
+        self.memo = scorer.memo;
         if let Some(best) = scorer.best {
             self.reassigned = Some(best);
         }
@@ -754,6 +760,7 @@ impl Session {
             progress,
         ));
         self.prepared = None;
+        self.memo = temporal::Memo::default();
         self.plans.push((problem, settings.clone(), planned.clone()));
         Ok(planned)
     }
@@ -1209,6 +1216,7 @@ impl Session {
                                 task,
                                 (std::mem::take(plan), timed),
                                 Moves::All,
+                                &mut self.memo,
                             ),
                         };
                         *plan = rearranged.plan;
@@ -1340,7 +1348,7 @@ impl Session {
         self.task(problem);
         let task = self.tasks[problem].as_mut().expect("built above");
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
-        let rearranged = temporal::reassign(kb, interner, &program, task, (plan, timed), moves);
+        let rearranged = temporal::reassign(kb, interner, &program, task, (plan, timed), moves, &mut self.memo);
         (rearranged.plan, rearranged.timed)
     }
 

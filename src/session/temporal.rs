@@ -180,12 +180,13 @@ pub(crate) fn reassign(
     task: &mut crate::ir::task::Task,
     (plan, timed): (crate::ir::plan::Plan, Timed),
     moves: Moves,
+    memo: &mut Memo,
 ) -> Rearranged {
     let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| (plan.clone(), timed.clone()));
     // One generator for every plan checked (both ways), so that OnKB goals are proven once.
     let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
     let successors = crate::planner::successors::Successors::new(task, engine);
-    let mut cx = Rearranging { kb, interner, program, successors, task };
+    let mut cx = Rearranging { kb, interner, program, successors, task, memo };
     let varied = reassign_with(&mut cx, (plan, timed), moves, Rules::WithVariants(REASSIGN_VARIANTS));
     let Some((plan, timed)) = again else { return varied };
     let before = varied.timed.schedule.makespan;
@@ -210,23 +211,22 @@ fn reassign_with(
     moves: Moves,
     first: Rules,
 ) -> Rearranged {
-    let before = timed.schedule.makespan;
-    let (plan, timed) = super::timing::time(
-        "reassign",
-        || rearrange(cx, (plan, timed), REASSIGN_ROUNDS, first),
-        |(_, timed)| {
-            let (from, to) = (before, timed.schedule.makespan);
-            change(from, to)
-        },
-    );
+    let (plan, timed, _) = Memo::run(cx, ("reassign", Some(first)), (plan, timed), |cx, (plan, timed)| {
+        let before = timed.schedule.makespan;
+        let (plan, timed) = super::timing::time(
+            "reassign",
+            || rearrange(cx, (plan, timed), REASSIGN_ROUNDS, first),
+            |(_, timed)| change(before, timed.schedule.makespan),
+        );
+        (plan, timed, 0)
+    });
     if moves == Moves::Jobs {
         return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0 };
     }
     // Relocating before the detours gives them shorter moves to work from; after them, the
     // places they chose are relocated in turn.
-    let mut settled = Settled::default();
     let relocation = ("relocate", "starts relocated", relocations as Step);
-    let (plan, timed, relocated) = settled.pass(cx, relocation, (plan, timed));
+    let (plan, timed, relocated) = pass(cx, relocation, (plan, timed));
     if moves == Moves::Relocations {
         return Rearranged { plan, timed, detours: 0, relocated, merged: 0 };
     }
@@ -235,14 +235,14 @@ fn reassign_with(
     for _ in 0..CYCLES {
         let start = timed.schedule.makespan;
         let (aside, again, joined);
-        (plan, timed, aside) = settled.pass(cx, ("detour", "starts sent aside", detours), (plan, timed));
+        (plan, timed, aside) = pass(cx, ("detour", "starts sent aside", detours), (plan, timed));
         sent += aside;
-        (plan, timed, again) = settled.pass(cx, relocation, (plan, timed));
+        (plan, timed, again) = pass(cx, relocation, (plan, timed));
         relocated += again;
         if moves == Moves::Detours {
             break;
         }
-        (plan, timed, joined) = settled.pass(cx, ("merge", "jobs merged", merges), (plan, timed));
+        (plan, timed, joined) = pass(cx, ("merge", "jobs merged", merges), (plan, timed));
         merged += joined;
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
@@ -251,9 +251,9 @@ fn reassign_with(
     if moves == Moves::All {
         let cleared = ("cleared", "starts relocated onto places being cleared", relocations_onto_cleared as Step);
         let again;
-        (plan, timed, again) = settled.pass(cx, cleared, (plan, timed));
+        (plan, timed, again) = pass(cx, cleared, (plan, timed));
         relocated += again;
-        (plan, timed, _) = settled.pass(cx, ("polish", "rounds kept", polish), (plan, timed));
+        (plan, timed, _) = pass(cx, ("polish", "rounds kept", polish), (plan, timed));
     }
     Rearranged { plan, timed, detours: sent, relocated, merged }
 }
@@ -267,40 +267,96 @@ fn change(from: i64, to: i64) -> String {
 /// changes they made ([`relocations`], [`detours`], [`merges`]).
 type Step = fn(&mut Rearranging<'_, '_>, (crate::ir::plan::Plan, Timed)) -> (crate::ir::plan::Plan, Timed, usize);
 
-/// Per pass of [`reassign`]'s cycles (by name), the plan it last left as it was given. The
-/// passes are deterministic, so given that plan again a pass would leave it so again: it is
-/// not run (reverse_b75_a10_s1: the second cycle's merge, 0.41 s of 2.9, found nothing the
-/// first had not).
+/// What the rearranging passes of [`reassign`] made of the plans they were given, by pass:
+/// they are deterministic, so given a plan again a pass would make the same of it, and it is
+/// not run again. A plan goes through the same passes more than once: `reassign` runs them
+/// with and without the variants of its rules ([`BOTH_WAYS_STEPS`]) and the two ways often
+/// meet (whenever the first reassigning keeps the plan), the second search often finds the
+/// first one's plan, and a pass that left a plan as it was meets it again in the next cycle.
+/// Measured on swap_b05_a3_s1 (`kbc plan --schedule`): 40 passes run, on 20 distinct plans.
+/// One memo serves a [`crate::session::Session`]'s whole `plan` (scorer, both searches,
+/// restarts); it keeps at most [`MEMO_STEPS`] steps of plans, the oldest forgotten first.
 #[derive(Default)]
-struct Settled {
-    plans: Vec<(&'static str, crate::ir::plan::Plan)>,
+pub(crate) struct Memo {
+    entries: std::collections::VecDeque<Remembered>,
+    /// The steps of the plans held (given and made).
+    steps: usize,
 }
 
-impl Settled {
-    /// `step` as a pass of its own in `-v`'s list, named `name`, its line saying the makespan
-    /// before and after and how many changes it made (`what`: "starts relocated"); not run on
-    /// a plan it left as it was.
-    fn pass(
+/// One result in a [`Memo`].
+struct Remembered {
+    /// The pass (its name in `-v`) and, for the first reassigning, its rules.
+    pass: (&'static str, Option<Rules>),
+    /// The separation of the schedules (the passes schedule with it).
+    epsilon: i64,
+    given: crate::ir::plan::Plan,
+    made: (crate::ir::plan::Plan, Timed, usize),
+}
+
+/// How many plan steps a [`Memo`] holds at most (about 30 results on a 100-block problem:
+/// its plans have 600-800 steps).
+const MEMO_STEPS: usize = 25_000;
+
+impl Memo {
+    fn find(
+        &self,
+        pass: (&'static str, Option<Rules>),
+        epsilon: i64,
+        given: &crate::ir::plan::Plan,
+    ) -> Option<&(crate::ir::plan::Plan, Timed, usize)> {
+        let found = self.entries.iter().find(|r| r.pass == pass && r.epsilon == epsilon && r.given == *given);
+        found.map(|r| &r.made)
+    }
+
+    fn remember(
         &mut self,
-        cx: &mut Rearranging<'_, '_>,
-        (name, what, step): (&'static str, &str, Step),
-        (plan, timed): (crate::ir::plan::Plan, Timed),
-    ) -> (crate::ir::plan::Plan, Timed, usize) {
-        if self.plans.iter().any(|(n, p)| *n == name && *p == plan) {
-            return (plan, timed, 0);
+        pass: (&'static str, Option<Rules>),
+        epsilon: i64,
+        given: crate::ir::plan::Plan,
+        made: (crate::ir::plan::Plan, Timed, usize),
+    ) {
+        self.steps += given.steps.len() + made.0.steps.len();
+        self.entries.push_back(Remembered { pass, epsilon, given, made });
+        while self.steps > MEMO_STEPS && self.entries.len() > 1 {
+            let Some(old) = self.entries.pop_front() else { break };
+            self.steps -= old.given.steps.len() + old.made.0.steps.len();
         }
-        let (given, before) = (plan.clone(), timed.schedule.makespan);
-        let (plan, timed, made) = super::timing::time(
+    }
+
+    /// `step` on a plan as pass `pass`, or what it made of that plan before.
+    fn run(
+        cx: &mut Rearranging<'_, '_>,
+        pass: (&'static str, Option<Rules>),
+        (plan, timed): (crate::ir::plan::Plan, Timed),
+        step: impl FnOnce(&mut Rearranging<'_, '_>, (crate::ir::plan::Plan, Timed)) -> (crate::ir::plan::Plan, Timed, usize),
+    ) -> (crate::ir::plan::Plan, Timed, usize) {
+        let epsilon = timed.stn.epsilon;
+        if let Some(made) = cx.memo.find(pass, epsilon, &plan) {
+            return made.clone();
+        }
+        let given = plan.clone();
+        let made = step(cx, (plan, timed));
+        cx.memo.remember(pass, epsilon, given, made.clone());
+        made
+    }
+}
+
+/// A step of [`reassign`] as a pass of its own in `-v`'s list, named `name`, its line saying
+/// the makespan before and after and how many changes it made (`what`: "starts relocated");
+/// not run on a plan the memo has its result for.
+fn pass(
+    cx: &mut Rearranging<'_, '_>,
+    (name, what, step): (&'static str, &str, Step),
+    planned: (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
+    Memo::run(cx, (name, None), planned, |cx, (plan, timed)| {
+        let before = timed.schedule.makespan;
+        super::timing::time(
             name,
             || step(cx, (plan, timed)),
             |(_, timed, made)| format!("{}, {made} {what}", change(before, timed.schedule.makespan)),
-        );
-        self.plans.retain(|(n, _)| *n != name);
-        if plan == given {
-            self.plans.push((name, given));
-        }
-        (plan, timed, made)
-    }
+        )
+    })
 }
 
 /// What [`reassign`] kept.
@@ -319,13 +375,14 @@ pub(crate) struct Rearranged {
 
 /// What [`rearrange`], [`relocations`] and [`detours`] work with: the KB, its names, the
 /// problem's program, one generator of applicable actions for every plan checked (OnKB goals
-/// proven once) and the task.
+/// proven once), the task and what the passes made of the plans they were given before.
 struct Rearranging<'a, 'p> {
     kb: &'a Kb,
     interner: &'a Interner,
     program: &'p crate::engine::Program,
     successors: crate::planner::successors::Successors<'p>,
     task: &'a mut crate::ir::task::Task,
+    memo: &'a mut Memo,
 }
 
 /// The reassigning rounds of [`reassign`], at most `rounds`.
@@ -740,19 +797,22 @@ pub struct ReassignedMakespan<'a> {
     /// The shortest so far: the plan scored and what `reassign` made of it (the first among
     /// equals, as the search keeps).
     pub(crate) best: Option<(crate::ir::plan::Plan, Rearranged)>,
+    /// What the passes made of the plans given them so far.
+    pub(crate) memo: Memo,
 }
 
 impl<'a> ReassignedMakespan<'a> {
     /// A scorer for plans of the problem whose `program` is given, with nothing scored yet.
     pub fn new(kb: &'a Kb, interner: &'a Interner, program: &'a crate::engine::Program, epsilon: i64) -> Self {
-        ReassignedMakespan { kb, interner, program, epsilon, best: None }
+        ReassignedMakespan { kb, interner, program, epsilon, best: None, memo: Memo::default() }
     }
 }
 
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
-        let rearranged = reassign(self.kb, self.interner, self.program, task, (plan.clone(), timed), Moves::All);
+        let (kb, interner, program) = (self.kb, self.interner, self.program);
+        let rearranged = reassign(kb, interner, program, task, (plan.clone(), timed), Moves::All, &mut self.memo);
         let makespan = rearranged.timed.schedule.makespan;
         if self.best.as_ref().is_none_or(|(_, best)| makespan < best.timed.schedule.makespan) {
             self.best = Some((plan.clone(), rearranged));
