@@ -19,7 +19,10 @@
 //!
 //! The plan must be valid (the search's plans are; plan files go through `validate` first).
 
-use rustc_hash::FxHashMap;
+use std::hash::{Hash, Hasher};
+
+use hashbrown::HashTable;
+use rustc_hash::{FxHashMap, FxHasher};
 
 use crate::intern::Interner;
 use crate::ir::hir::{self, EffectKind, Kb, Snap, Term, VarId, VarTable};
@@ -39,13 +42,153 @@ pub(crate) fn instantiate(term: &Term, bindings: &[Option<Term>]) -> Term {
     }
 }
 
-/// A term's identity in the replay: its written form in words (see [`encode`]). (Not an
-/// [`crate::ir::task::ConstId`]: `Consts` interns ground terms only, and the facts of an
-/// arm-level plan, which keep Prolog's unification, may have variables.)
-type Key = Box<[u64]>;
+/// Hashes `term` structurally, floats by their bits (so a term is found again exactly when
+/// it is written the same way, as the replay needs).
+fn hash_term(term: &Term, hasher: &mut impl Hasher) {
+    match term {
+        Term::Var(v) => (0u8, v.0).hash(hasher),
+        Term::Atom(s) => (1u8, s.0).hash(hasher),
+        Term::Int(i) => (2u8, *i).hash(hasher),
+        Term::Float(f) => (3u8, f.to_bits()).hash(hasher),
+        Term::Str(s) => (4u8, s.0).hash(hasher),
+        Term::Compound(f, args) => {
+            (5u8, f.0, args.len()).hash(hasher);
+            for arg in args.iter() {
+                hash_term(arg, hasher);
+            }
+        }
+    }
+}
 
-/// Writes `term` to `out` so that two terms give the same words only if they are equal
-/// (floats by their bits): a tag word, then the symbol, the value or the arguments.
+/// True if `a` and `b` are written the same way: [`Term`]'s equality, but floats by their
+/// bits (`0.0` and `-0.0` differ, a NaN equals itself), as [`hash_term`] hashes them.
+fn same(a: &Term, b: &Term) -> bool {
+    match (a, b) {
+        (Term::Float(x), Term::Float(y)) => x.to_bits() == y.to_bits(),
+        (Term::Compound(f, xs), Term::Compound(g, ys)) => {
+            f == g && xs.len() == ys.len() && xs.iter().zip(ys.iter()).all(|(x, y)| same(x, y))
+        }
+        _ => a == b,
+    }
+}
+
+/// Terms numbered in the order first seen, each stored once: the facts of the replay, the
+/// running instances. (Not [`crate::ir::task::Consts`]: it interns ground terms only, and the
+/// facts of an arm-level plan, which keep Prolog's unification, may have variables.)
+#[derive(Default)]
+struct Terms {
+    terms: Vec<Term>,
+    /// Indices into `terms`, by hash.
+    table: HashTable<u32>,
+}
+
+impl Terms {
+    fn hash(term: &Term) -> u64 {
+        let mut hasher = FxHasher::default();
+        hash_term(term, &mut hasher);
+        hasher.finish()
+    }
+
+    /// The number of `term`, if it was seen.
+    fn find(&self, term: &Term) -> Option<usize> {
+        let terms = &self.terms;
+        self.table.find(Terms::hash(term), |&i| same(&terms[i as usize], term)).map(|&i| i as usize)
+    }
+
+    /// The number of `term`, given one the first time it is seen; and whether it is new.
+    fn add(&mut self, term: &Term) -> (usize, bool) {
+        let hash = Terms::hash(term);
+        let terms = &self.terms;
+        if let Some(&i) = self.table.find(hash, |&i| same(&terms[i as usize], term)) {
+            return (i as usize, false);
+        }
+        let i = self.terms.len();
+        self.terms.push(term.clone());
+        let terms = &self.terms;
+        self.table.insert_unique(hash, i as u32, |&j| Terms::hash(&terms[j as usize]));
+        (i, true)
+    }
+}
+
+/// What happened to one ground fact along the plan.
+#[derive(Default)]
+struct History {
+    initially: bool,
+    /// True while the replay has it.
+    holds: bool,
+    /// Steps that add it, in plan order.
+    adds: Vec<usize>,
+    /// Steps that delete it (while it holds), in plan order.
+    dels: Vec<usize>,
+}
+
+struct Builder {
+    /// Every fact the replay met, numbered as in `histories`.
+    facts: Terms,
+    histories: Vec<History>,
+    /// Fact numbers by predicate name and arity, in first-seen order (for Invalid patterns).
+    by_pred: FxHashMap<(crate::intern::Symbol, usize), Vec<usize>>,
+    orderings: Vec<Ordering>,
+}
+
+/// Orders `before` before `after` when it comes first in the plan.
+fn order(orderings: &mut Vec<Ordering>, before: usize, after: usize, reason: Reason) {
+    if before < after {
+        orderings.push(Ordering { before, after, reason });
+    }
+}
+
+impl Builder {
+    /// The number of the fact `term`, with its history started the first time.
+    fn fact(&mut self, term: &Term) -> usize {
+        let (i, new) = self.facts.add(term);
+        if new {
+            if let Some((name, arity)) = term.callable() {
+                self.by_pred.entry((name, arity)).or_default().push(i);
+            }
+            self.histories.push(History::default());
+        }
+        i
+    }
+
+    fn history(&mut self, term: &Term) -> &mut History {
+        let i = self.fact(term);
+        &mut self.histories[i]
+    }
+
+    /// The last step before `at` (exclusive) that adds the fact, else `Init` if it holds
+    /// initially; and every candidate.
+    fn establishers(&self, fact: Option<usize>, at: usize) -> (Vec<Achiever>, Achiever) {
+        let Some(history) = fact.map(|i| &self.histories[i]) else { return (Vec::new(), Achiever::Init) };
+        let mut candidates: Vec<Achiever> = Vec::new();
+        if history.initially {
+            candidates.push(Achiever::Init);
+        }
+        candidates.extend(history.adds.iter().filter(|&&j| j < at).map(|&j| Achiever::Step(j)));
+        let last = candidates.last().copied().unwrap_or(Achiever::Init);
+        (candidates, last)
+    }
+
+    /// Orders the deleters of `fact` around a link from `last` to consumer `at` (`n` for the
+    /// goal), condition `condition`.
+    fn protect(&mut self, fact: Option<usize>, last: Achiever, at: usize, consumer: usize, condition: usize) {
+        let Some(history) = fact.map(|i| &self.histories[i]) else { return };
+        let reason = Reason::Threat { consumer, condition };
+        for &d in &history.dels {
+            if d == at {
+                continue; // a step may consume the fact it needs
+            }
+            match last {
+                Achiever::Step(j) if d < j => order(&mut self.orderings, d, j, reason),
+                _ if d > at => order(&mut self.orderings, at, d, reason),
+                _ => {}
+            }
+        }
+    }
+}
+
+/// A term's written form in words, to order terms the same way on every run (floats by their
+/// bits): a tag word, then the symbol, the value or the arguments.
 fn encode(term: &Term, out: &mut Vec<u64>) {
     match term {
         Term::Var(v) => out.extend([0, u64::from(v.0)]),
@@ -62,148 +205,91 @@ fn encode(term: &Term, out: &mut Vec<u64>) {
     }
 }
 
-/// `term`'s [`Key`].
-fn fact_key(term: &Term) -> Key {
-    let mut key = Vec::with_capacity(16);
-    encode(term, &mut key);
-    key.into_boxed_slice()
-}
-
-/// What happened to one ground fact along the plan.
-#[derive(Default)]
-struct History {
-    term: Option<Term>,
-    initially: bool,
-    /// Steps that add it, in plan order.
-    adds: Vec<usize>,
-    /// Steps that delete it (while it holds), in plan order.
-    dels: Vec<usize>,
-}
-
-struct Builder {
-    facts: FxHashMap<Key, History>,
-    /// Fact keys by predicate name and arity, in first-seen order (for Invalid patterns).
-    by_pred: FxHashMap<(crate::intern::Symbol, usize), Vec<Key>>,
-    orderings: Vec<Ordering>,
-}
-
-impl Builder {
-    fn history(&mut self, term: &Term) -> &mut History {
-        let key = fact_key(term);
-        if !self.facts.contains_key(&key) {
-            if let Some((name, arity)) = term.callable() {
-                self.by_pred.entry((name, arity)).or_default().push(key.clone());
-            }
-            self.facts.insert(key.clone(), History { term: Some(term.clone()), ..History::default() });
-        }
-        self.facts.get_mut(&key).expect("inserted above")
-    }
-
-    fn order(&mut self, before: usize, after: usize, reason: Reason) {
-        if before < after {
-            self.orderings.push(Ordering { before, after, reason });
-        }
-    }
-
-    /// The last step before `at` (exclusive) that adds the fact, else `Init` if it holds
-    /// initially; and every candidate.
-    fn establishers(&self, key: &[u64], at: usize) -> (Vec<Achiever>, Achiever) {
-        let Some(history) = self.facts.get(key) else { return (Vec::new(), Achiever::Init) };
-        let mut candidates: Vec<Achiever> = Vec::new();
-        if history.initially {
-            candidates.push(Achiever::Init);
-        }
-        candidates.extend(history.adds.iter().filter(|&&j| j < at).map(|&j| Achiever::Step(j)));
-        let last = candidates.last().copied().unwrap_or(Achiever::Init);
-        (candidates, last)
-    }
-
-    /// Orders the deleters of `key` around a link from `last` to consumer `at` (`n` for the
-    /// goal), condition `condition`.
-    fn protect(&mut self, key: &[u64], last: Achiever, at: usize, consumer: usize, condition: usize) {
-        let deleters: Vec<usize> = self.facts.get(key).map(|h| h.dels.clone()).unwrap_or_default();
-        let reason = Reason::Threat { consumer, condition };
-        for d in deleters {
-            if d == at {
-                continue; // a step may consume the fact it needs
-            }
-            match last {
-                Achiever::Step(j) if d < j => self.order(d, j, reason),
-                _ if d > at => self.order(at, d, reason),
-                _ => {}
-            }
-        }
-    }
-}
-
 /// Builds the partial-order plan of `plan`, which must be valid for its problem.
 pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
     let problem = &kb.problems[plan.problem];
-    let mut builder = Builder { facts: FxHashMap::default(), by_pred: FxHashMap::default(), orderings: Vec::new() };
-    let mut state: FxHashMap<Key, Term> = FxHashMap::default();
+    let mut builder = Builder {
+        facts: Terms::default(),
+        histories: Vec::new(),
+        by_pred: FxHashMap::default(),
+        orderings: Vec::new(),
+    };
     for literal in &problem.init {
-        let key = fact_key(&literal.term);
-        builder.history(&literal.term).initially = true;
-        state.insert(key, literal.term.clone());
+        let history = builder.history(&literal.term);
+        history.initially = true;
+        history.holds = true;
     }
     // Replay, recording every change.
     for (i, step) in plan.steps.iter().enumerate() {
         for effect in &kb.actions[step.action].effects {
             let fact = instantiate(&effect.literal.term, &step.bindings);
-            let key = fact_key(&fact);
             match effect.kind {
                 EffectKind::Add => {
-                    builder.history(&fact).adds.push(i);
-                    state.insert(key, fact);
+                    let history = builder.history(&fact);
+                    history.adds.push(i);
+                    history.holds = true;
                 }
                 EffectKind::Del if !fact.is_ground() => {
-                    // A variable nothing binds: every fact that unifies goes (docs/dsl.md).
-                    let mut gone: Vec<(Key, Term)> = state
-                        .iter()
-                        .filter(|(_, t)| crate::ir::unify::unifiable(&fact, t))
-                        .map(|(k, t)| (k.clone(), t.clone()))
+                    // A variable nothing binds: every fact that unifies goes (docs/dsl.md), in
+                    // the order of their written forms.
+                    let mut gone: Vec<(Vec<u64>, usize)> = (0..builder.histories.len())
+                        .filter(|&f| builder.histories[f].holds && unifiable(&fact, &builder.facts.terms[f]))
+                        .map(|f| {
+                            let mut key = Vec::new();
+                            encode(&builder.facts.terms[f], &mut key);
+                            (key, f)
+                        })
                         .collect();
-                    gone.sort_by(|a, b| a.0.cmp(&b.0));
-                    for (key, term) in gone {
-                        state.remove(&key);
-                        builder.history(&term).dels.push(i);
+                    gone.sort();
+                    for (_, f) in gone {
+                        let history = &mut builder.histories[f];
+                        history.holds = false;
+                        history.dels.push(i);
                     }
                 }
                 EffectKind::Del => {
-                    if state.remove(&key).is_some() {
-                        builder.history(&fact).dels.push(i);
+                    if let Some(f) = builder.facts.find(&fact)
+                        && builder.histories[f].holds
+                    {
+                        let history = &mut builder.histories[f];
+                        history.holds = false;
+                        history.dels.push(i);
                     }
                 }
             }
         }
     }
     // Starts, by the running instance they begin: each end takes the latest open one.
-    let mut open: FxHashMap<Key, Vec<usize>> = FxHashMap::default();
+    let mut instances = Terms::default();
+    let mut open: Vec<Vec<usize>> = Vec::new();
     let mut steps: Vec<PopStep> = Vec::with_capacity(plan.steps.len());
     for (i, step) in plan.steps.iter().enumerate() {
         let action = &kb.actions[step.action];
-        let running = action.instance(&step.name);
         let start = match action.snap {
             Snap::Start => {
-                open.entry(fact_key(&running)).or_default().push(i);
+                let (instance, new) = instances.add(&action.instance(&step.name));
+                if new {
+                    open.push(Vec::new());
+                }
+                open[instance].push(i);
                 None
             }
-            Snap::End => open.get_mut(&fact_key(&running)).and_then(Vec::pop),
+            Snap::End => instances.find(&action.instance(&step.name)).and_then(|instance| open[instance].pop()),
             Snap::Instant => None,
         };
         if let Some(s) = start {
-            builder.order(s, i, Reason::StartEnd);
+            order(&mut builder.orderings, s, i, Reason::StartEnd);
         }
         let mut conditions = Vec::new();
         for literal in &action.valid {
             let fact = instantiate(&literal.term, &step.bindings);
-            let key = fact_key(&fact);
-            let (candidates, last) = builder.establishers(&key, i);
+            let found = builder.facts.find(&fact);
+            let (candidates, last) = builder.establishers(found, i);
             let index = conditions.len();
             if let Achiever::Step(j) = last {
-                builder.order(j, i, Reason::Achiever { condition: index });
+                order(&mut builder.orderings, j, i, Reason::Achiever { condition: index });
             }
-            builder.protect(&key, last, i, i, index);
+            builder.protect(found, last, i, i, index);
             conditions.push(Condition {
                 kind: ConditionKind::Valid,
                 literal: fact,
@@ -216,16 +302,13 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         for literal in &action.invalid {
             let pattern = instantiate(&literal.term, &step.bindings);
             let index = conditions.len();
-            let keys = pattern.callable().and_then(|(name, arity)| builder.by_pred.get(&(name, arity)));
+            let facts = pattern.callable().and_then(|(name, arity)| builder.by_pred.get(&(name, arity)));
             let mut candidates = Vec::new();
-            // (Collected, then ordered: the facts' histories are borrowed meanwhile.)
-            let mut orders: Vec<(usize, usize, Reason)> = Vec::new();
-            for key in keys.into_iter().flatten() {
-                let history = &builder.facts[key];
-                let Some(fact) = &history.term else { continue };
-                if !unifiable(&pattern, fact) {
+            for &f in facts.into_iter().flatten() {
+                if !unifiable(&pattern, &builder.facts.terms[f]) {
                     continue;
                 }
+                let history = &builder.histories[f];
                 let (adds, dels) = (&history.adds, &history.dels);
                 let reason = Reason::Threat { consumer: i, condition: index };
                 // Absent at `i`: its last deletion before `i`, if it ever held, comes first.
@@ -234,18 +317,15 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
                     && ever_before
                 {
                     candidates.push(Achiever::Step(d));
-                    orders.push((d, i, Reason::Achiever { condition: index }));
+                    order(&mut builder.orderings, d, i, Reason::Achiever { condition: index });
                 }
                 for &a in adds {
                     if a > i {
-                        orders.push((i, a, reason));
+                        order(&mut builder.orderings, i, a, reason);
                     } else if let Some(&d) = dels.iter().find(|&&d| d > a && d < i) {
-                        orders.push((a, d, reason));
+                        order(&mut builder.orderings, a, d, reason);
                     }
                 }
-            }
-            for (before, after, reason) in orders {
-                builder.order(before, after, reason);
             }
             candidates.sort();
             candidates.dedup();
@@ -261,21 +341,29 @@ pub fn build(kb: &Kb, interner: &Interner, plan: &Plan) -> Pop {
         }
         steps.push(PopStep { action: step.action, name: step.name.clone(), snap: action.snap, start, conditions });
     }
-    // The goal, matched against the final state.
+    // The goal, matched against the final state. (A goal with variables matches the final
+    // facts in the order of their text, so that it matches the same facts whatever the
+    // replay's order; a ground goal is its own match.)
     let n = plan.steps.len();
     let mut goal = Vec::new();
-    // (In the order of their text, so that a goal with variables matches the same facts
-    // whatever the hash table's order.)
-    let mut finals: Vec<(String, Term)> =
-        state.into_values().map(|t| (hir::term_to_string(interner, &t, &VarTable::default()), t)).collect();
-    finals.sort_by(|a, b| a.0.cmp(&b.0));
-    let finals: Vec<Term> = finals.into_iter().map(|(_, t)| t).collect();
-    let matched = match_goal(&problem.goal, &finals, &mut vec![None; problem.vars.len()]);
+    let matched = match problem.goal.iter().all(|literal| literal.term.is_ground()) {
+        true => None,
+        false => {
+            let mut finals: Vec<(String, &Term)> = (0..builder.histories.len())
+                .filter(|&f| builder.histories[f].holds)
+                .map(|f| &builder.facts.terms[f])
+                .map(|t| (hir::term_to_string(interner, t, &VarTable::default()), t))
+                .collect();
+            finals.sort_by(|a, b| a.0.cmp(&b.0));
+            let finals: Vec<Term> = finals.into_iter().map(|(_, t)| t.clone()).collect();
+            match_goal(&problem.goal, &finals, &mut vec![None; problem.vars.len()])
+        }
+    };
     for (g, literal) in problem.goal.iter().enumerate() {
         let fact = matched.as_ref().map_or_else(|| literal.term.clone(), |m| instantiate(&literal.term, m));
-        let key = fact_key(&fact);
-        let (candidates, last) = builder.establishers(&key, n);
-        builder.protect(&key, last, n, usize::MAX, g);
+        let found = builder.facts.find(&fact);
+        let (candidates, last) = builder.establishers(found, n);
+        builder.protect(found, last, n, usize::MAX, g);
         goal.push(Condition {
             kind: ConditionKind::Goal,
             literal: fact,
