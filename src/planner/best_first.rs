@@ -681,6 +681,8 @@ pub fn search(
     let mut durations = Durations::default();
     let mut timeline = Timeline::new(epsilon);
     let mut path: Vec<u32> = Vec::new();
+    // The nodes whose actions `timeline` holds, in order (a path from the root).
+    let mut placed: Vec<u32> = Vec::new();
     let mut from_preferred = false;
     let mut applicable = Vec::new();
     let mut placements: Vec<Placement> = Vec::new();
@@ -713,15 +715,20 @@ pub fn search(
         // that cannot be scheduled (an action overruns its maximum duration) is a dead end.
         // (A later, schedulable path to the same state is then lost to duplicate detection:
         // the price of checking time only on the states the search keeps.)
+        // (Only the steps after the prefix it shares with the path placed before are placed
+        // again.)
         path_to(&nodes, id, &mut path);
-        timeline.clear();
-        for &n in &path {
-            let Some(action) = nodes[n as usize].action.clone() else { continue };
+        let shared = placed.iter().zip(&path).take_while(|(a, b)| a == b).count();
+        timeline.truncate(shared);
+        placed.truncate(shared);
+        for &n in &path[shared..] {
+            let Some(action) = nodes[n as usize].action.as_ref() else { continue };
             let (machine, _) = successors.parts();
-            match timeline.place(task, machine, &mut durations, &action) {
-                Ok(placement) => timeline.record(task, &action, placement),
+            match timeline.place(task, machine, &mut durations, action) {
+                Ok(placement) => timeline.record(task, action, placement),
                 Err(error) => return Outcome::ended(found, Failure::Condition(error), stats),
             }
+            placed.push(n);
         }
         if temporal && !timeline.consistent() {
             nodes[id as usize].accepted = Some(Box::default());
@@ -869,6 +876,7 @@ pub fn search(
                 let better = best.is_some() && makespan < nodes[other as usize].makespan;
                 // (Never below one of its own descendants: the parents must stay a tree.)
                 if better && nodes[other as usize].parent != u32::MAX && !path.contains(&other) {
+                    // (`placed` is `path`, which does not hold it: no placed step changes.)
                     let node = &mut nodes[other as usize];
                     node.parent = id;
                     node.action = Some(action);
@@ -1047,6 +1055,7 @@ pub fn search(
             // from open lists ordered for finding any plan.
             let root = nodes.swap_remove(0);
             nodes.clear();
+            placed.clear();
             nodes.push(Node { accepted: None, ..root });
             seen.clear();
             seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);

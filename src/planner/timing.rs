@@ -113,7 +113,22 @@ struct Placed {
     end_of: Option<(usize, i64, i64)>,
 }
 
+/// What recording a step changed in a [`Timeline`], to be undone by [`Timeline::truncate`].
+#[derive(Clone, Debug)]
+enum Undo {
+    /// `added[fact]` was this before.
+    Added(FactId, Option<usize>),
+    /// `deleted[pred][index]` had this step before; `None`: the entry was pushed.
+    Deleted(u32, usize, Option<usize>),
+    /// `started[instance]` was this before.
+    Started(ConstId, Option<usize>),
+}
+
 /// The steps of a plan prefix and, for each fact, the last step that added or deleted it.
+///
+/// The search places the prefix of every state it expands; consecutive states mostly share
+/// a long prefix, so the timeline can be cut back to a shorter prefix ([`Timeline::truncate`],
+/// from a log of what each step changed) and only the rest placed again.
 #[derive(Clone)]
 pub struct Timeline {
     /// The least separation of two ordered snap actions.
@@ -127,6 +142,10 @@ pub struct Timeline {
     pub makespan: i64,
     /// The prefix's resource-free makespan so far.
     pub free_makespan: i64,
+    /// What the recorded steps changed, in order.
+    undo: Vec<Undo>,
+    /// Per recorded step: the length of `undo` and the two makespans before it.
+    marks: Vec<(usize, i64, i64)>,
 }
 
 impl Default for Timeline {
@@ -146,6 +165,58 @@ impl Timeline {
             steps: Vec::new(),
             makespan: 0,
             free_makespan: 0,
+            undo: Vec::new(),
+            marks: Vec::new(),
+        }
+    }
+
+    /// How many steps are recorded.
+    pub fn len(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// True if no step is recorded.
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+
+    /// Forgets every step after the first `len`: the timeline is as it was when they were
+    /// recorded.
+    pub fn truncate(&mut self, len: usize) {
+        while self.steps.len() > len {
+            self.steps.pop();
+            let (undo, makespan, free_makespan) = self.marks.pop().expect("a mark per step");
+            for change in self.undo.drain(undo..).rev() {
+                match change {
+                    Undo::Added(fact, before) => match before {
+                        Some(step) => {
+                            self.added.insert(fact, step);
+                        }
+                        None => {
+                            self.added.remove(&fact);
+                        }
+                    },
+                    Undo::Deleted(pred, index, before) => {
+                        let list = self.deleted.get_mut(&pred).expect("logged when changed");
+                        match before {
+                            Some(step) => list[index].1 = step,
+                            None => {
+                                list.pop();
+                            }
+                        }
+                    }
+                    Undo::Started(instance, before) => match before {
+                        Some(step) => {
+                            self.started.insert(instance, step);
+                        }
+                        None => {
+                            self.started.remove(&instance);
+                        }
+                    },
+                }
+            }
+            self.makespan = makespan;
+            self.free_makespan = free_makespan;
         }
     }
 
@@ -157,6 +228,8 @@ impl Timeline {
         self.steps.clear();
         self.makespan = 0;
         self.free_makespan = 0;
+        self.undo.clear();
+        self.marks.clear();
     }
 
     /// Where `action` goes after the prefix recorded so far.
@@ -227,6 +300,7 @@ impl Timeline {
     /// Records `action`, placed at `placement`, as the next step.
     pub fn record(&mut self, task: &mut Task, action: &Applicable, placement: Placement) {
         let index = self.steps.len();
+        self.marks.push((self.undo.len(), self.makespan, self.free_makespan));
         let Task { consts, facts, schemas, .. } = task;
         let schema = &schemas[action.schema];
         for (kind, literal) in schema.effects.iter() {
@@ -235,22 +309,32 @@ impl Timeline {
             let Some(fact) = args.and_then(|args| facts.find(literal.pred, &args)) else { continue };
             match kind {
                 EffectKind::Add => {
-                    self.added.insert(fact, index);
+                    let before = self.added.insert(fact, index);
+                    self.undo.push(Undo::Added(fact, before));
                 }
                 EffectKind::Del => {
                     let list = self.deleted.entry(literal.pred.0).or_default();
-                    match list.iter_mut().find(|(f, _)| *f == fact) {
-                        Some(entry) => entry.1 = index,
-                        None => list.push((fact, index)),
+                    match list.iter().position(|(f, _)| *f == fact) {
+                        Some(at) => {
+                            self.undo.push(Undo::Deleted(literal.pred.0, at, Some(list[at].1)));
+                            list[at].1 = index;
+                        }
+                        None => {
+                            self.undo.push(Undo::Deleted(literal.pred.0, list.len(), None));
+                            list.push((fact, index));
+                        }
                     }
                 }
             }
         }
         if let Some(instance) = placement.starts {
-            self.started.insert(instance, index);
+            let before = self.started.insert(instance, index);
+            self.undo.push(Undo::Started(instance, before));
         }
-        if let Some(instance) = action.ends {
-            self.started.remove(&instance);
+        if let Some(instance) = action.ends
+            && let Some(before) = self.started.remove(&instance)
+        {
+            self.undo.push(Undo::Started(instance, Some(before)));
         }
         self.makespan = self.makespan.max(placement.until);
         self.free_makespan = self.free_makespan.max(placement.free_until);
@@ -299,5 +383,89 @@ impl Timeline {
             }
         }
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ladder::{Family, Rung};
+    use crate::planner::successors::{Successors, apply};
+
+    /// A timeline cut back to a prefix of the path it recorded places every action as a
+    /// timeline that recorded only that prefix, at every length, and taken on from there
+    /// along another path, as one that recorded that path from the start: the undo log puts
+    /// back the last adder and deleter of each fact, the started instances and the makespans.
+    #[test]
+    fn a_truncated_timeline_places_as_one_built_from_the_start() {
+        let rung = Rung { family: Family::Swap, blocks: 6, arms: 3, seed: 2 };
+        let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
+        let problem = frontend.kb.problems.len() - 1;
+        let mut task = crate::passes::task::build(&frontend.kb, problem);
+        let program = crate::planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        // A walk of up to 40 steps, each the applicable action of index `pick(step)` (modulo
+        // how many apply): the actions and the states before each and after the last.
+        let mut walk = |task: &mut Task, pick: &dyn Fn(usize) -> usize| {
+            let (mut states, mut actions, mut applicable) = (vec![task.init.clone()], Vec::new(), Vec::new());
+            for step in 0..40 {
+                let state = states.last().expect("the initial state");
+                successors.applicable(task, state, &mut applicable).expect("no engine error");
+                let Some(action) = applicable.get(pick(step) % applicable.len().max(1)).cloned() else { break };
+                states.push(apply(task, state, &action));
+                actions.push(action);
+            }
+            (actions, states)
+        };
+        let (first, states) = walk(&mut task, &|step| step * 5 + 1);
+        // (The first other walk that agrees on 12 steps and goes on for 30.)
+        let (second, _) = (2..40)
+            .map(|other| walk(&mut task, &|step| if step < 12 { step * 5 + 1 } else { step * 5 + other }))
+            .find(|(second, _)| second.len() >= 30 && second[12] != first[12])
+            .expect("a walk of 30 steps");
+        assert!(first.len() >= 30 && first[..12] == second[..12]);
+        let mut machine = Machine::new(&program, 1_000_000);
+        let mut checker = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut durations = Durations::default();
+        let mut record = |timeline: &mut Timeline, task: &mut Task, actions: &[Applicable]| {
+            for action in actions {
+                let placement = timeline.place(task, &mut machine, &mut durations, action).expect("no engine error");
+                timeline.record(task, action, placement);
+            }
+        };
+        let mut cut = Timeline::default();
+        record(&mut cut, &mut task, &first);
+        // Cut back one step at a time: the same placements as a timeline of the prefix alone,
+        // for the prefix's next step and every action that applies after it.
+        let mut machine = Machine::new(&program, 1_000_000);
+        let mut durations = Durations::default();
+        let mut applicable = Vec::new();
+        for k in (0..=first.len()).rev() {
+            cut.truncate(k);
+            let mut fresh = Timeline::default();
+            record(&mut fresh, &mut task, &first[..k]);
+            assert_eq!(cut.len(), k);
+            assert_eq!((cut.makespan, cut.free_makespan), (fresh.makespan, fresh.free_makespan), "after {k} steps");
+            assert_eq!(cut.consistent(), fresh.consistent());
+            checker.applicable(&mut task, &states[k], &mut applicable).expect("no engine error");
+            for action in first.get(k).into_iter().chain(&applicable) {
+                let mut at = |timeline: &Timeline| {
+                    timeline.place(&mut task, &mut machine, &mut durations, action).expect("no engine error")
+                };
+                assert_eq!(at(&cut), at(&fresh), "after {k} steps: {action:?}");
+            }
+        }
+        assert!(cut.is_empty() && cut.makespan == 0 && cut.added.is_empty() && cut.started.is_empty());
+        assert!(cut.deleted.values().all(Vec::is_empty));
+        // Taken on along the other path from its 12 shared steps.
+        record(&mut cut, &mut task, &first[..20]);
+        cut.truncate(12);
+        record(&mut cut, &mut task, &second[12..]);
+        let mut fresh = Timeline::default();
+        record(&mut fresh, &mut task, &second);
+        assert_eq!(
+            (cut.makespan, cut.free_makespan, cut.consistent()),
+            (fresh.makespan, fresh.free_makespan, fresh.consistent())
+        );
     }
 }
