@@ -477,9 +477,11 @@ fn every_reassign_candidate_is_a_valid_plan() {
                 &timed.pop,
                 &timed.stn,
                 passes::reassign::Rules::WithVariants(2),
-            ) {
+            )
+            .iter()
+            {
                 let span = session.kb().problems[0].span;
-                let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &candidate.plan, span));
+                let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &candidate.plan(), span));
                 assert!(
                     !verdict.diagnostics.has_errors(),
                     "{}: {:?}",

@@ -62,13 +62,58 @@ use crate::ir::stn::Stn;
 use crate::ir::unify::unifiable;
 use crate::passes::pop::instantiate;
 
-/// A candidate plan and the makespan the simulation estimates for it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Candidate {
-    /// The rearranged plan.
-    pub plan: Plan,
+/// The candidates of a plan ([`candidates`]): for each, the makespan the simulation estimates
+/// and, when asked for, the rearranged plan. The plans are made only when asked for: the
+/// driver looks at the best few (`session::temporal::rearrange` stops at the first that is
+/// shorter), and making all of them took 5% of `kbc plan`'s instructions on
+/// reverse_b06_a3_s1.
+pub struct Candidates<'a> {
+    plan: &'a Plan,
+    /// What the plans are made from (`None` when the pass does not apply).
+    problem: Option<Problem>,
+    /// The simulations that gave a plan not given already, best estimate first.
+    found: Vec<Simulated>,
+}
+
+/// One simulation's result: its estimate, the steps in its order and each job's unit.
+struct Simulated {
+    estimate: i64,
+    order: Vec<usize>,
+    units: Vec<usize>,
+}
+
+/// A candidate of [`Candidates`].
+pub struct Candidate<'c> {
     /// The simulated makespan, in STN units.
     pub estimate: i64,
+    of: &'c Candidates<'c>,
+    index: usize,
+}
+
+impl Candidate<'_> {
+    /// The rearranged plan.
+    pub fn plan(&self) -> Plan {
+        let found = &self.of.found[self.index];
+        let problem = self.of.problem.as_ref().expect("a candidate comes from a problem");
+        rearranged(self.of.plan, problem, &found.order, &found.units)
+    }
+}
+
+impl<'a> Candidates<'a> {
+    /// How many there are.
+    pub fn len(&self) -> usize {
+        self.found.len()
+    }
+
+    /// True if there are none.
+    pub fn is_empty(&self) -> bool {
+        self.found.is_empty()
+    }
+
+    /// The candidates, best estimate first.
+    pub fn iter(&self) -> impl Iterator<Item = Candidate<'_>> {
+        (0..self.found.len()).map(|index| Candidate { estimate: self.found[index].estimate, of: self, index })
+    }
 }
 
 /// The rules the simulation is run with, one candidate each.
@@ -170,25 +215,42 @@ struct Problem {
     units: Vec<(usize, Term)>,
     /// The longest path from each step to the end of the plan, in time.
     tail: Vec<i64>,
+    /// For each job, what its steps wait for in other jobs: (its step, the step waited for,
+    /// that step's job) (see [`waits_on`]).
+    waits_on: Vec<Vec<(usize, usize, usize)>>,
+}
+
+/// For each job of `jobs`, the steps of other jobs its own steps wait for (`preds`): (its step,
+/// the step waited for, that step's job).
+fn waits_on(jobs: &[Job], preds: &[Vec<(usize, i64)>], job_of: &[Option<usize>]) -> Vec<Vec<(usize, usize, usize)>> {
+    let others = |j: usize, s: usize| {
+        preds[s].iter().filter_map(move |&(p, _)| job_of[p].filter(|&q| q != j).map(|q| (s, p, q)))
+    };
+    jobs.iter().enumerate().map(|(j, job)| job.steps.iter().flat_map(|&s| others(j, s)).collect()).collect()
 }
 
 /// Candidate plans for `plan`, one per rule of `rules` that gives a plan not given already,
 /// best estimate first; `pop` and `stn` are its partial order and temporal network. Empty
 /// when the pass does not apply (see the module docs) or when no rule gives a schedule (the
 /// simulation can deadlock: every unit held by a job that waits for a job without one).
-pub fn candidates(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn, rules: Rules) -> Vec<Candidate> {
-    let Some(problem) = analyse(kb, plan, pop, stn) else { return Vec::new() };
-    let mut found: Vec<Candidate> = Vec::new();
+pub fn candidates<'a>(kb: &Kb, plan: &'a Plan, pop: &Pop, stn: &Stn, rules: Rules) -> Candidates<'a> {
+    let Some(problem) = analyse(kb, plan, pop, stn) else {
+        return Candidates { plan, problem: None, found: Vec::new() };
+    };
+    let mut found: Vec<Simulated> = Vec::new();
+    let given: Vec<usize> = problem.jobs.iter().map(|j| j.unit).collect();
     for rule in rules.list() {
         let Some((times, units)) = simulate(&problem, rule) else { continue };
         let estimate = times.iter().copied().max().unwrap_or(0);
-        let candidate = Candidate { plan: rearranged(plan, &problem, &times, &units), estimate };
-        if candidate.plan != *plan && !found.iter().any(|c| c.plan == candidate.plan) {
-            found.push(candidate);
+        let order = order_of(&problem, &times);
+        // (A plan is its steps' order and its jobs' units: the same ones make the same plan.)
+        let unchanged = units == given && order.iter().enumerate().all(|(k, &i)| k == i);
+        if !unchanged && !found.iter().any(|f| f.order == order && f.units == units) {
+            found.push(Simulated { estimate, order, units });
         }
     }
-    found.sort_by_key(|c| c.estimate);
-    found
+    found.sort_by_key(|f| f.estimate);
+    Candidates { plan, problem: Some(problem), found }
 }
 
 /// True if `term` is `unit` or contains it.
@@ -398,7 +460,8 @@ fn analyse(kb: &Kb, plan: &Plan, pop: &Pop, stn: &Stn) -> Option<Problem> {
             tail[before] = tail[before].max(tail[after] + separation);
         }
     }
-    Some(Problem { snaps, preds, exported, job_of, jobs, units, tail })
+    let waits_on = waits_on(&jobs, &preds, &job_of);
+    Some(Problem { snaps, preds, exported, job_of, jobs, units, tail, waits_on })
 }
 
 /// List scheduling of `problem` under `rule`: each step's time and each job's unit, or `None`
@@ -411,7 +474,7 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
     let mut free_at: Vec<i64> = vec![0; problem.units.len()];
     let mut held: Vec<bool> = vec![false; problem.units.len()];
     let mut started: Vec<bool> = vec![false; problem.jobs.len()];
-    let mut bound: Vec<i64> = vec![0; n];
+    let mut bounds = Bounds::new(n);
     let mut now = 0i64;
     // The steps whose predecessors are all placed (the only ones that can be placed next),
     // kept up to date from each step's successors and how many of its predecessors are not
@@ -425,20 +488,7 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         }
     }
     let mut ready: Vec<usize> = (0..n).filter(|&i| missing[i] == 0).collect();
-    // Whether the bounds must be worked out again: they change only when `now` moves on or
-    // a step is placed later than its bound.
-    let mut stale = true;
     for _ in 0..n {
-        // Lower bounds for every step not yet placed: no earlier than now, nor than its
-        // predecessors allow (plan order is a topological order).
-        if stale {
-            for i in 0..n {
-                bound[i] = match time[i] {
-                    Some(t) => t,
-                    None => problem.preds[i].iter().fold(now, |acc, &(p, sep)| acc.max(bound[p] + sep)),
-                };
-            }
-        }
         // The step to place next: the one that can happen first (with `reserve`, among
         // those that leave a unit for each started job waiting for a job not started; if
         // none does, among all).
@@ -452,13 +502,18 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         let units = Units { free_at: &free_at, held: &held, started: &started };
         let mut best = None;
         for reserving in [rule.reserve, false] {
-            best = next_step(problem, rule, (&time, &bound, &ready), units, reserving.then_some(waiting));
+            let placed = Placed { time: &time, now, ready: &ready };
+            best = next_step(problem, rule, placed, &mut bounds, units, reserving.then_some(waiting));
             if best.is_some() || !reserving {
                 break;
             }
         }
         let ((at, _, i), unit) = best?; // deadlock: nothing can be placed
-        stale = at != now || at != bound[i];
+        // (The bounds change only when `now` moves on or a step is placed later than its
+        // bound.)
+        if at != now || at != bounds.get(problem, Placed { time: &time, now, ready: &ready }, i) {
+            bounds.forget();
+        }
         time[i] = Some(at);
         ready.retain(|&r| r != i);
         for &s in &succs[i] {
@@ -467,7 +522,6 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
                 ready.push(s);
             }
         }
-        bound[i] = at;
         now = at;
         if let (Some(j), Some(unit)) = (problem.job_of[i], unit) {
             started[j] = true;
@@ -483,6 +537,74 @@ fn simulate(problem: &Problem, rule: Rule) -> Option<(Vec<i64>, Vec<usize>)> {
         }
     }
     Some((time.into_iter().map(|t| t.unwrap_or(0)).collect(), unit_of_job))
+}
+
+/// Where a simulation stands: the times of the steps placed, the time it has reached, and the
+/// steps whose predecessors are all placed.
+#[derive(Clone, Copy)]
+struct Placed<'a> {
+    time: &'a [Option<i64>],
+    now: i64,
+    ready: &'a [usize],
+}
+
+/// Lower bounds on the times of a simulation's steps not placed yet: no earlier than now, nor
+/// than their predecessors allow. Each is worked out when first asked for and kept until
+/// [`Bounds::forget`]; the simulation asks for those of the steps it could place next and of
+/// the steps a job's later steps wait for, a few of them, where working out all of them
+/// after each placement was most of the pass's time (reverse_b06_a3_s1: 28% of the
+/// instructions of `kbc plan`).
+struct Bounds {
+    value: Vec<i64>,
+    /// `value[i]` holds while `stamp[i]` is `epoch`.
+    stamp: Vec<u32>,
+    epoch: u32,
+    /// Steps waiting for their predecessors' bounds.
+    stack: Vec<usize>,
+}
+
+impl Bounds {
+    fn new(n: usize) -> Bounds {
+        Bounds { value: vec![0; n], stamp: vec![0; n], epoch: 1, stack: Vec::new() }
+    }
+
+    /// Forgets every bound worked out: the time reached or a step's placement moved them.
+    fn forget(&mut self) {
+        self.epoch += 1;
+    }
+
+    /// The lower bound of step `i` (its time, if placed).
+    fn get(&mut self, problem: &Problem, placed: Placed<'_>, i: usize) -> i64 {
+        let time = placed.time;
+        if let Some(t) = time[i] {
+            return t;
+        }
+        let epoch = self.epoch;
+        self.stack.push(i);
+        while let Some(&s) = self.stack.last() {
+            if self.stamp[s] == epoch {
+                self.stack.pop();
+                continue;
+            }
+            let before = self.stack.len();
+            for &(p, _) in &problem.preds[s] {
+                if time[p].is_none() && self.stamp[p] != epoch {
+                    self.stack.push(p);
+                }
+            }
+            if self.stack.len() > before {
+                continue; // its predecessors first
+            }
+            self.stack.pop();
+            let value = &self.value;
+            let bound = problem.preds[s]
+                .iter()
+                .fold(placed.now, |acc, &(p, separation)| acc.max(time[p].unwrap_or(value[p]) + separation));
+            self.value[s] = bound;
+            self.stamp[s] = epoch;
+        }
+        self.value[i]
+    }
 }
 
 /// The units in a simulation: when each is free, whether a job holds it, and which jobs have
@@ -503,14 +625,16 @@ struct Units<'a> {
 fn next_step(
     problem: &Problem,
     rule: Rule,
-    (time, bound, ready): (&[Option<i64>], &[i64], &[usize]),
+    placed: Placed<'_>,
+    bounds: &mut Bounds,
     units: Units<'_>,
     reserve: Option<usize>,
 ) -> Option<((i64, i64, usize), Option<usize>)> {
+    let time = placed.time;
     let mut best: Option<((i64, i64, usize), Option<usize>)> = None; // ((time, rank, step), unit)
-    for &i in ready {
+    for &i in placed.ready {
         debug_assert!(time[i].is_none() && problem.preds[i].iter().all(|&(p, _)| time[p].is_some()));
-        let ready = bound[i];
+        let ready = bounds.get(problem, placed, i);
         let job = problem.job_of[i];
         let (at, unit) = match job {
             Some(j) if !units.started[j] => {
@@ -530,7 +654,7 @@ fn next_step(
                 };
                 let mut at = units.free_at[unit].max(ready);
                 if rule.just_in_time {
-                    at += delay(problem, bound, j, at);
+                    at += delay(problem, (placed, bounds), j, at);
                 }
                 (at, Some(unit))
             }
@@ -551,18 +675,13 @@ fn next_step(
 /// Whether a step of job `j` not placed yet waits for a step not placed yet of a job not
 /// `started` (another job's).
 fn waits_for_unstarted(problem: &Problem, time: &[Option<i64>], started: &[bool], j: usize) -> bool {
-    problem.jobs[j].steps.iter().any(|&s| {
-        time[s].is_none()
-            && problem.preds[s]
-                .iter()
-                .any(|&(p, _)| time[p].is_none() && problem.job_of[p].is_some_and(|q| q != j && !started[q]))
-    })
+    problem.waits_on[j].iter().any(|&(s, p, q)| time[s].is_none() && time[p].is_none() && !started[q])
 }
 
 /// How long job `j`, if it started at `at`, could start later without delaying its last step
 /// or any step another job waits for: the waiting its steps would do before the first such
 /// step, given the lower bounds on everything else.
-fn delay(problem: &Problem, bound: &[i64], j: usize, at: i64) -> i64 {
+fn delay(problem: &Problem, (placed, bounds): (Placed<'_>, &mut Bounds), j: usize, at: i64) -> i64 {
     let steps = &problem.jobs[j].steps;
     // Each step's (time, offset) so far, by its position in `steps` (a job has a few steps).
     let mut local: Vec<(i64, i64)> = Vec::with_capacity(steps.len());
@@ -575,7 +694,7 @@ fn delay(problem: &Problem, bound: &[i64], j: usize, at: i64) -> i64 {
                     t = t.max(pt + separation);
                     offset = offset.max(po + separation);
                 }
-                None => t = t.max(bound[p] + separation),
+                None => t = t.max(bounds.get(problem, placed, p) + separation),
             }
         }
         let t = t.max(at + offset);
@@ -588,12 +707,10 @@ fn delay(problem: &Problem, bound: &[i64], j: usize, at: i64) -> i64 {
 }
 
 /// The plan in simulated time order, each job naming its unit.
-fn rearranged(plan: &Plan, problem: &Problem, times: &[i64], units: &[usize]) -> Plan {
-    let mut order: Vec<usize> = (0..problem.snaps.len()).collect();
-    order.sort_by_key(|&i| (times[i], problem.snaps[i] != Snap::End, i));
+fn rearranged(plan: &Plan, problem: &Problem, order: &[usize], units: &[usize]) -> Plan {
     let steps = order
-        .into_iter()
-        .map(|i| {
+        .iter()
+        .map(|&i| {
             let step = &plan.steps[i];
             match problem.job_of[i] {
                 Some(j) if units[j] != problem.jobs[j].unit => {
@@ -609,6 +726,13 @@ fn rearranged(plan: &Plan, problem: &Problem, times: &[i64], units: &[usize]) ->
         })
         .collect();
     Plan { problem: plan.problem, steps }
+}
+
+/// The steps in simulated time order (ends before starts at equal times, then plan order).
+fn order_of(problem: &Problem, times: &[i64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..problem.snaps.len()).collect();
+    order.sort_by_key(|&i| (times[i], problem.snaps[i] != Snap::End, i));
+    order
 }
 
 /// `term` with every `from` replaced by `to`.
@@ -638,6 +762,7 @@ mod tests {
             jobs: Vec::new(),
             units: (0..3).map(|u| (0, Term::Int(u))).collect(),
             tail: Vec::new(),
+            waits_on: Vec::new(),
         };
         let jobs = 3 + waiting;
         for j in 0..jobs {
@@ -652,6 +777,7 @@ mod tests {
         for j in 0..waiting {
             problem.preds[2 * j + 1].push((2 * (waiting + j), 1));
         }
+        problem.waits_on = waits_on(&problem.jobs, &problem.preds, &problem.job_of);
         problem
     }
 

@@ -391,22 +391,21 @@ fn rearrange(
     let kb = cx.kb;
     for _ in 0..rounds {
         let candidates = crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn, rules);
-        let mut improved = false;
-        for candidate in candidates {
+        let mut improved = None;
+        for candidate in candidates.iter() {
             if candidate.estimate >= timed.schedule.makespan {
                 continue;
             }
-            if let Some(scheduled) = checked(cx, &candidate.plan, timed.stn.epsilon)
+            let rearranged = candidate.plan();
+            if let Some(scheduled) = checked(cx, &rearranged, timed.stn.epsilon)
                 && scheduled.schedule.makespan < timed.schedule.makespan
             {
-                (plan, timed) = (candidate.plan, scheduled);
-                improved = true;
+                improved = Some((rearranged, scheduled));
                 break;
             }
         }
-        if !improved {
-            break;
-        }
+        let Some(found) = improved else { break };
+        (plan, timed) = found;
     }
     (plan, timed)
 }
@@ -436,17 +435,18 @@ fn polish(
     for _ in 0..POLISH_ROUNDS {
         let makespan = timed.schedule.makespan;
         let mut best: Option<(crate::ir::plan::Plan, Timed)> = None;
-        for candidate in
-            crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn, Rules::Variants(POLISH_VARIANTS))
-        {
+        let candidates =
+            crate::passes::reassign::candidates(kb, &plan, &timed.pop, &timed.stn, Rules::Variants(POLISH_VARIANTS));
+        for candidate in candidates.iter() {
             if candidate.estimate >= makespan + makespan / POLISH_SLACK {
                 continue;
             }
             let shortest = best.as_ref().map_or(makespan, |(_, t)| t.schedule.makespan);
-            if let Some(scheduled) = checked(cx, &candidate.plan, timed.stn.epsilon)
+            let rearranged = candidate.plan();
+            if let Some(scheduled) = checked(cx, &rearranged, timed.stn.epsilon)
                 && scheduled.schedule.makespan < shortest
             {
-                best = Some((candidate.plan, scheduled));
+                best = Some((rearranged, scheduled));
             }
         }
         let Some(found) = best else { break };
