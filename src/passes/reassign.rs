@@ -580,6 +580,18 @@ impl Bounds {
             return t;
         }
         let epoch = self.epoch;
+        if self.stamp[i] == epoch {
+            return self.value[i];
+        }
+        // (Most steps asked about can be placed next: their predecessors are all placed.)
+        let preds = &problem.preds[i];
+        if preds.iter().all(|&(p, _)| time[p].is_some()) {
+            let bound =
+                preds.iter().fold(placed.now, |acc, &(p, separation)| acc.max(time[p].expect("placed") + separation));
+            self.value[i] = bound;
+            self.stamp[i] = epoch;
+            return bound;
+        }
         self.stack.push(i);
         while let Some(&s) = self.stack.last() {
             if self.stamp[s] == epoch {
