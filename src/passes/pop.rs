@@ -139,8 +139,8 @@ fn order(orderings: &mut Vec<Ordering>, before: usize, after: usize, reason: Rea
 }
 
 impl Builder {
-    /// The number of the fact `term`, with its history started the first time.
-    fn fact(&mut self, term: &Term) -> usize {
+    /// The history of the fact `term`, started the first time it is met.
+    fn history(&mut self, term: &Term) -> &mut History {
         let (i, new) = self.facts.add(term);
         if new {
             if let Some((name, arity)) = term.callable() {
@@ -148,11 +148,6 @@ impl Builder {
             }
             self.histories.push(History::default());
         }
-        i
-    }
-
-    fn history(&mut self, term: &Term) -> &mut History {
-        let i = self.fact(term);
         &mut self.histories[i]
     }
 

@@ -99,12 +99,7 @@ impl Candidate<'_> {
     }
 }
 
-impl<'a> Candidates<'a> {
-    /// How many there are.
-    pub fn len(&self) -> usize {
-        self.found.len()
-    }
-
+impl Candidates<'_> {
     /// True if there are none.
     pub fn is_empty(&self) -> bool {
         self.found.is_empty()
@@ -552,8 +547,8 @@ struct Placed<'a> {
 /// than their predecessors allow. Each is worked out when first asked for and kept until
 /// [`Bounds::forget`]; the simulation asks for those of the steps it could place next and of
 /// the steps a job's later steps wait for, a few of them, where working out all of them
-/// after each placement was most of the pass's time (reverse_b06_a3_s1: 28% of the
-/// instructions of `kbc plan`).
+/// after each placement cost `kbc plan` of reverse_b06_a3_s1 4% more instructions (264 ->
+/// 254 M under callgrind with this).
 struct Bounds {
     value: Vec<i64>,
     /// `value[i]` holds while `stamp[i]` is `epoch`.

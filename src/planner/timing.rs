@@ -170,16 +170,6 @@ impl Timeline {
         }
     }
 
-    /// How many steps are recorded.
-    pub fn len(&self) -> usize {
-        self.steps.len()
-    }
-
-    /// True if no step is recorded.
-    pub fn is_empty(&self) -> bool {
-        self.steps.is_empty()
-    }
-
     /// Forgets every step after the first `len`: the timeline is as it was when they were
     /// recorded.
     pub fn truncate(&mut self, len: usize) {
@@ -218,18 +208,6 @@ impl Timeline {
             self.makespan = makespan;
             self.free_makespan = free_makespan;
         }
-    }
-
-    /// Forgets everything, for reuse.
-    pub fn clear(&mut self) {
-        self.added.clear();
-        self.deleted.clear();
-        self.started.clear();
-        self.steps.clear();
-        self.makespan = 0;
-        self.free_makespan = 0;
-        self.undo.clear();
-        self.marks.clear();
     }
 
     /// Where `action` goes after the prefix recorded so far.
@@ -444,7 +422,7 @@ mod tests {
             cut.truncate(k);
             let mut fresh = Timeline::default();
             record(&mut fresh, &mut task, &first[..k]);
-            assert_eq!(cut.len(), k);
+            assert_eq!(cut.steps.len(), k);
             assert_eq!((cut.makespan, cut.free_makespan), (fresh.makespan, fresh.free_makespan), "after {k} steps");
             assert_eq!(cut.consistent(), fresh.consistent());
             checker.applicable(&mut task, &states[k], &mut applicable).expect("no engine error");
@@ -455,7 +433,7 @@ mod tests {
                 assert_eq!(at(&cut), at(&fresh), "after {k} steps: {action:?}");
             }
         }
-        assert!(cut.is_empty() && cut.makespan == 0 && cut.added.is_empty() && cut.started.is_empty());
+        assert!(cut.steps.is_empty() && cut.makespan == 0 && cut.added.is_empty() && cut.started.is_empty());
         assert!(cut.deleted.values().all(Vec::is_empty));
         // Taken on along the other path from its 12 shared steps.
         record(&mut cut, &mut task, &first[..20]);

@@ -737,7 +737,7 @@ impl Session {
                     (searched.plans.clone(), origin.to_string(), Some(searched.stats))
                 }
                 Err(failed) => {
-                    self.prepared = None;
+                    self.plan_ended();
                     let diagnostic = self.search_failure(problem, &failed, &stats_line(&failed.stats), settings);
                     self.diagnostics.push(diagnostic);
                     return Err(PlanError::Search(failed));
@@ -746,8 +746,7 @@ impl Session {
         };
         // A grounding of `problem` (W0015) when its initial facts have variables.
         let ground = plans.first().map_or(problem, |plan| plan.problem);
-        let planned =
-            self.schedule_best(ground, plans, origin, stats, settings).inspect_err(|_| self.prepared = None)?;
+        let planned = self.schedule_best(ground, plans, origin, stats, settings).inspect_err(|_| self.plan_ended())?;
         let spent = stats.map_or(0, |s| s.expanded);
         // (The time the first search spent improving on its first plan, scoring them all.)
         let improving = stats.and_then(|s| s.first_found.map(|first| s.elapsed.saturating_sub(first)));
@@ -759,10 +758,16 @@ impl Session {
             settings,
             progress,
         ));
-        self.prepared = None;
-        self.memo = temporal::Memo::default();
+        self.plan_ended();
         self.plans.push((problem, settings.clone(), planned.clone()));
         Ok(planned)
+    }
+
+    /// Drops what one `plan` keeps for its own searches and passes: the search's set-up and
+    /// the passes' memo.
+    fn plan_ended(&mut self) {
+        self.prepared = None;
+        self.memo = temporal::Memo::default();
     }
 
     /// `planned`, or the plan of a second heuristic search that follows relaxed plans ahead
