@@ -274,10 +274,12 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///
 /// - `work`: every block whose goal fact is not in the initial state is moved at least once,
 ///   by one arm, in a cycle of grip, move and release that holds the arm from the grip's start
-///   to the release's end (`available/1` is the arm's resource). A block that must end on its
-///   own cell but on another block leaves the cell and comes back (a move changes the cell):
-///   two cycles or more, at least the least work of such a round trip over the table's cells
-///   (shortest paths, each step a cycle). (A block whose goal support starts below it and
+///   to the release's end (`available/1` is the arm's resource). A move ends only on the
+///   block's goal cell or on a buffer cell (one the goal leaves empty), so a block stands
+///   nowhere else on its way. A block that must end on its own cell but on another block
+///   leaves the cell and comes back (a move changes the cell): two cycles or more, at least
+///   the least work of such a round trip through the buffer cells (shortest paths whose
+///   stops are buffer cells, each step a cycle). (A block whose goal support starts below it and
 ///   must move too needs only one: its move can lift it before the support is gripped and
 ///   put it down after the support is placed.) Blocks that must leave before any goal tower
 ///   can start and cannot all stay in the arms are put down on their way, each on a buffer
@@ -305,7 +307,8 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
 ///   every block above it needs at least one more release after that. And the arms are few:
 ///   each block's last cycle in the tower (grip to release, on one arm) comes from another
-///   cell, so it takes at least the least cycle into the tower's cell; of any `arms + 1`
+///   cell where the block stood (its start cell or a buffer cell), so it takes at least the
+///   least cycle into the tower's cell from one of those; of any `arms + 1`
 ///   consecutive blocks from the first that moves up, two have their last cycles on one arm,
 ///   the upper one's after the lower one's release (the upper is released later, and an arm
 ///   does one cycle at a time). Whichever two they are, the top one of the `arms + 1` is
@@ -435,11 +438,17 @@ impl Rung {
             at
         };
         let (from, to) = (place(&init), place(&goal));
-        // The least work of a round trip from a cell back to it (each move changes the cell):
-        // shortest paths over the table's cells, each step a whole cycle with the KB's least
-        // durations (Floyd-Warshall), rather than assuming a neighbour is the cheapest cell.
+        // Where a block may stand on its way: std/blocks.pl ends a move only on the block's goal
+        // cell or on a buffer cell (one the goal leaves empty, on its table).
         let cells = self.cells();
         let n = cells.len();
+        let buffers: Vec<(usize, usize)> =
+            cells.iter().copied().filter(|c| !to.values().any(|(t, _)| t == c)).collect();
+        let is_buffer: Vec<bool> = cells.iter().map(|c| buffers.contains(c)).collect();
+        // The least work from one cell to another, each step a whole cycle with the KB's least
+        // durations and every stop between them a buffer cell: shortest paths whose
+        // intermediate cells are buffers (Floyd-Warshall over those alone), rather than
+        // assuming a neighbour is the cheapest cell or that a block may stop anywhere.
         let mut path = vec![i64::MAX; n * n];
         for (i, &a) in cells.iter().enumerate() {
             for (j, &b) in cells.iter().enumerate() {
@@ -449,7 +458,7 @@ impl Rung {
             }
         }
         let cycle = path.clone();
-        for k in 0..n {
+        for k in (0..n).filter(|&k| is_buffer[k]) {
             for i in (0..n).filter(|&i| i != k) {
                 let ik = path[i * n + k];
                 if ik == i64::MAX {
@@ -463,11 +472,13 @@ impl Rung {
                 }
             }
         }
-        // (No other cell to go to: no round trip, and 0 is still a bound.)
+        // The least work of a round trip from a block's goal cell back to it (each move changes
+        // the cell, so its first stop is a buffer cell). (No buffer cell: no round trip, and 0
+        // is still a bound.)
         let round_trip = |cell: (usize, usize)| -> i64 {
             let s = cells.iter().position(|&c| c == cell).expect("a cell of the table");
             (0..n)
-                .filter(|&m| m != s)
+                .filter(|&m| m != s && is_buffer[m])
                 .map(|m| cycle[s * n + m].saturating_add(path[m * n + s]))
                 .min()
                 .filter(|&w| w != i64::MAX)
@@ -488,11 +499,11 @@ impl Rung {
         }
         let total: i64 = works.values().sum();
         // The least work of reaching the target from a first move elsewhere than the target
-        // (two moves or more; None when there is no other cell).
+        // (two moves or more, every stop on the way a buffer cell; None when there is none).
         let via = |start: (usize, usize), target: (usize, usize)| -> Option<i64> {
             let (s, t) = (cells.iter().position(|&c| c == start)?, cells.iter().position(|&c| c == target)?);
             (0..n)
-                .filter(|&p| p != s)
+                .filter(|&p| p != s && (p == t || is_buffer[p]))
                 .map(|p| {
                     let rest = if p == t { round_trip(target) } else { path[p * n + t] };
                     cycle[s * n + p].saturating_add(rest)
@@ -500,12 +511,9 @@ impl Rung {
                 .min()
                 .filter(|&w| w != i64::MAX)
         };
-        // A block put down on its way to its goal stands alone on a buffer cell (a cell the
-        // goal leaves empty; std/blocks.pl stacks a block only where the goal does): its moves
-        // reach that cell from its start (two at least when it is its start cell) and go on
-        // to its goal cell.
-        let buffers: Vec<(usize, usize)> =
-            cells.iter().copied().filter(|c| !to.values().any(|(t, _)| t == c)).collect();
+        // A block put down on its way to its goal stands alone on a buffer cell (std/blocks.pl
+        // stacks a block only where the goal does): its moves reach that cell from its start
+        // (two at least when it is its start cell) and go on to its goal cell.
         let through = |b: usize, buffer: (usize, usize)| -> i64 {
             let [s, t, c] = [from[&b].0, to[&b].0, buffer].map(|x| cells.iter().position(|&y| y == x).expect("a cell"));
             let reach = if s == c { round_trip(buffer) } else { path[s * n + c] };
@@ -563,11 +571,16 @@ impl Rung {
             .map(|(b, w)| before[b] + waiting.occupied.get(b).copied().unwrap_or(*w).max(*w) + after[b])
             .max()
             .unwrap_or(0);
-        // The last cycle of a block on a goal cell comes from another cell: the least cycle
-        // into the cell.
-        let least_into = |cell: (usize, usize)| -> i64 {
+        // The last cycle of a block of a goal tower comes from another cell, where the block
+        // stood: its start cell or a buffer cell. The least such cycle into the tower's cell.
+        let least_into = |cell: (usize, usize), tower: &[usize]| -> i64 {
             let t = cells.iter().position(|&c| c == cell).expect("a cell of the table");
-            (0..n).filter(|&s| s != t).map(|s| cycle[s * n + t]).min().unwrap_or(0)
+            let starts: Vec<(usize, usize)> = tower.iter().map(|b| from[b].0).collect();
+            (0..n)
+                .filter(|&s| s != t && (is_buffer[s] || starts.contains(&cells[s])))
+                .map(|s| cycle[s * n + t])
+                .min()
+                .unwrap_or(0)
         };
         let arms = self.arms.max(1);
         let mut chain = 0;
@@ -576,7 +589,7 @@ impl Rung {
             // The least time of each last release, from the first block that moves up: one
             // release after the one below, and, from the (arms + 1)th block on, a last cycle
             // after the last release `arms` blocks below (see `LowerBound::chain`).
-            let last = least_into(*cell);
+            let last = least_into(*cell, tower);
             let mut ends: Vec<i64> = vec![works[&tower[first]]];
             for level in 1..tower.len() - first {
                 let mut end = ends[level - 1] + release;
