@@ -914,15 +914,20 @@ pub fn search(
                 makespan,
             });
             seen.insert_unique(print.0, child_id, |&n| nodes[n as usize].fingerprint.0);
-            // (With a seed, a hash of it and the node in place of the depth.)
-            let depth_key = match tie_seed {
-                Some(seed) => (FxBuildHasher.hash_one((child_id, seed)) >> 32) as u32,
-                None => depth,
+            // With a seed, a hash of it and the node in place of the depth, and the hash's
+            // lowest bit added to the estimate (see [`super::Options::tie_seed`]).
+            let (depth_key, noise) = match tie_seed {
+                Some(seed) => {
+                    let hash = (FxBuildHasher.hash_one((child_id, seed)) >> 32) as u32;
+                    (hash, hash & 1)
+                }
+                None => (depth, 0),
             };
+            let estimated = h_lm + h_ff + noise;
             let entry = if improving {
-                Reverse((h_lm + h_ff + idles as u32, 0, makespan, h_ff, time, depth_key, child_id))
+                Reverse((estimated + idles as u32, 0, makespan, h_ff, time, depth_key, child_id))
             } else {
-                Reverse((h_lm + h_ff, idles as u32, makespan, h_ff, time, depth_key, child_id))
+                Reverse((estimated, idles as u32, makespan, h_ff, time, depth_key, child_id))
             };
             if helpful {
                 preferred.push(entry);
