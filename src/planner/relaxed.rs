@@ -765,9 +765,9 @@ impl Relaxation {
         id
     }
 
-    fn relax(&mut self, view: u32, values: &[ConstId], cost: u32, support: Support) {
+    fn relax(&mut self, view: u32, values: &[ConstId], cost: u32, support: Support) -> bool {
         if self.limits.exhausted.is_some() {
-            return;
+            return false;
         }
         let table = &self.tables[view as usize];
         if table.cost.len() == table.cost.capacity() || self.queue.len() == self.queue.capacity() {
@@ -776,21 +776,22 @@ impl Relaxation {
             let growth = table.footprint() + self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>();
             if self.footprint() + growth > self.limits.max_bytes {
                 self.limits.exhausted = Some(BudgetKind::Memory);
-                return;
+                return false;
             }
         }
         if table.lookup.len() == table.lookup.capacity() && !self.grow_lookup(view) {
             self.limits.exhausted = Some(BudgetKind::Time);
-            return;
+            return false;
         }
         let table = &mut self.tables[view as usize];
         let (t, _) = table.find_or_insert(&self.hasher, values);
         if table.done[t as usize] || cost >= table.cost[t as usize] {
-            return;
+            return false;
         }
         table.cost[t as usize] = cost;
         table.support[t as usize] = support;
         self.queue.push(Reverse((cost, view, t)));
+        true
     }
 
     /// Doubles the lookup table of `view`, which is full, unless the time that takes (predicted
@@ -825,15 +826,17 @@ impl Relaxation {
     }
 
     /// Offers a full fact to every view of its predicate.
-    fn offer(&mut self, pred: PredId, values: &[ConstId], cost: u32, support: Support) {
-        let Some(views) = self.views_of_pred.get(&pred) else { return };
+    fn offer(&mut self, pred: PredId, values: &[ConstId], cost: u32, support: Support) -> bool {
+        let Some(views) = self.views_of_pred.get(&pred) else { return false };
         let views = views.clone();
         let mut projected = Vec::new();
+        let mut supported = false;
         for view in views {
             projected.clear();
             projected.extend(self.views[view as usize].keep.iter().map(|&i| values[i as usize]));
-            self.relax(view, &projected, cost, support);
+            supported |= self.relax(view, &projected, cost, support);
         }
+        supported
     }
 
     /// Evaluates `state`. With `plan`, also extracts the relaxed plan (h_FF, helpful actions).
@@ -1531,15 +1534,22 @@ impl Relaxation {
             if relaxation.recorder.is_some() {
                 relaxation.record(task, rule, bindings);
             }
+            // The bindings go into the arena only when some fact takes this instantiation as
+            // its support (most offers come too late): at the arena's end, where nothing else
+            // is added meanwhile. (Stored for every offer, the arena of reverse_b100_a10
+            // grew by reallocation and page faults to a tenth of the whole run.)
             let at = relaxation.arena.len() as u32;
-            relaxation.arena.extend_from_slice(bindings);
             let support = Support::Rule { rule: rule as u32, bindings: at };
             let mut values = Vec::new();
+            let mut supports = false;
             for h in 0..relaxation.rules[rule].heads.len() {
                 let head = relaxation.rules[rule].heads[h].clone();
                 if relaxation.literal_values(&head, task, bindings, &mut values) {
-                    relaxation.offer(head.pred, &values, cost, support);
+                    supports |= relaxation.offer(head.pred, &values, cost, support);
                 }
+            }
+            if supports {
+                relaxation.arena.extend_from_slice(bindings);
             }
         };
         match solutions {
