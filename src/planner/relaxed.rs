@@ -772,8 +772,10 @@ impl Relaxation {
         let table = &self.tables[view as usize];
         if table.cost.len() == table.cost.capacity() || self.queue.len() == self.queue.capacity() {
             // About to grow: a table or the queue roughly doubles, so check the memory budget
-            // before the allocation rather than after it.
-            let growth = table.footprint() + self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>();
+            // before the allocation rather than after it. While a vector moves to its doubled
+            // allocation, the old one is still held: twice its size more, for a moment.
+            let queue = self.queue.capacity() * std::mem::size_of::<Reverse<(u32, u32, u32)>>();
+            let growth = 2 * (table.footprint() + queue);
             if self.footprint() + growth > self.limits.max_bytes {
                 self.limits.exhausted = Some(BudgetKind::Memory);
                 return false;
