@@ -114,16 +114,59 @@ enum IndexKey {
     Functor(Symbol, u32),
 }
 
-/// A predicate's clauses, in order, with a first-argument index.
+/// A predicate's clauses, in order, with an index on each argument: the first built as the
+/// clauses are added, the others when a call first needs them.
 #[derive(Clone, Debug, Default)]
 struct Predicate {
     clauses: Vec<u32>,
-    /// For each first-argument key, the clauses whose first argument has that key or is a
-    /// variable, in clause order.
-    by_key: FxHashMap<IndexKey, Vec<u32>>,
-    /// The clauses whose first argument is a variable, in order (for keys not in `by_key`).
-    var_first: Vec<u32>,
+    first: ArgIndex,
+    /// The indexes on the second argument onwards (position - 1), built on first use: a call
+    /// whose first argument is unbound is narrowed by another bound argument (as SWI-Prolog's
+    /// just-in-time indexes do). std/blocks.pl asks `\+ on(_, _, X, Y)` of every cell, once
+    /// for each block, over the goal's 100 `on/4` facts of a 100-block rung.
+    others: Vec<std::cell::OnceCell<ArgIndex>>,
 }
+
+/// A predicate's clauses by the key of their argument at one position.
+#[derive(Clone, Debug, Default)]
+struct ArgIndex {
+    /// For each key, the clauses whose argument there has that key or is a variable, in
+    /// clause order.
+    by_key: FxHashMap<IndexKey, Vec<u32>>,
+    /// The clauses whose argument there is a variable, in order (for keys not in `by_key`).
+    var_at: Vec<u32>,
+}
+
+impl ArgIndex {
+    /// Adds clause `id`, whose argument at this position has `key` (None: a variable).
+    fn add(&mut self, id: u32, key: Option<IndexKey>) {
+        match key {
+            Some(key) => {
+                if !self.by_key.contains_key(&key) {
+                    // A new key starts with every earlier variable clause, in order.
+                    let earlier = self.var_at.clone();
+                    self.by_key.insert(key, earlier);
+                }
+                self.by_key.get_mut(&key).expect("inserted above").push(id);
+            }
+            None => {
+                self.var_at.push(id);
+                for list in self.by_key.values_mut() {
+                    list.push(id);
+                }
+            }
+        }
+    }
+
+    /// The clauses a call whose argument here has `key` may match.
+    fn list(&self, key: &IndexKey) -> &[u32] {
+        self.by_key.get(key).map_or(&self.var_at[..], |l| &l[..])
+    }
+}
+
+/// Fewer clauses than this are tried in turn rather than looked up by an argument after the
+/// first (the lookup costs more than the unifications it saves).
+const INDEX_OTHERS_FROM: usize = 8;
 
 /// A compiled program: the static KB.
 #[derive(Clone, Debug, Default)]
@@ -299,22 +342,27 @@ impl Program {
         self.clauses.push(clause);
         let predicate = self.predicates.entry((name, arity)).or_default();
         predicate.clauses.push(id);
-        match key {
-            Some(key) => {
-                if !predicate.by_key.contains_key(&key) {
-                    // A new key starts with every earlier variable-first clause, in order.
-                    let earlier = predicate.var_first.clone();
-                    predicate.by_key.insert(key, earlier);
-                }
-                predicate.by_key.get_mut(&key).expect("inserted above").push(id);
-            }
-            None => {
-                predicate.var_first.push(id);
-                for list in predicate.by_key.values_mut() {
-                    list.push(id);
-                }
-            }
+        predicate.first.add(id, key);
+        if predicate.others.is_empty() {
+            predicate.others = (1..arity).map(|_| std::cell::OnceCell::new()).collect();
         }
+    }
+
+    /// The index of `predicate` on argument `position` (from 1; 0 is `first`), built from its
+    /// clauses the first time it is asked for.
+    fn index_at<'a>(&'a self, predicate: &'a Predicate, position: usize) -> &'a ArgIndex {
+        predicate.others[position - 1].get_or_init(|| {
+            let mut index = ArgIndex::default();
+            for &id in &predicate.clauses {
+                let clause = &self.clauses[id as usize];
+                let key = match clause.head {
+                    Cell::Struct(at) => index_key(&clause.cells, clause.cells[at as usize + 1 + position]),
+                    _ => None,
+                };
+                index.add(id, key);
+            }
+            index
+        })
     }
 
     /// True if the program has clauses for `name/arity`.
@@ -371,7 +419,7 @@ const NIL: u32 = u32::MAX;
 #[derive(Clone, Copy, Debug)]
 enum Alternative {
     /// The remaining clauses of a call: the goal, its clause list, the next position in it.
-    Clauses { goal: Cell, predicate: (Symbol, u32), key: Option<IndexKey>, next: u32, cut: u32 },
+    Clauses { goal: Cell, predicate: (Symbol, u32), key: Option<(u32, IndexKey)>, next: u32, cut: u32 },
     /// The other branch of a disjunction.
     Goal { goal: Cell, cut: u32 },
 }
@@ -752,13 +800,41 @@ impl<'p> Machine<'p> {
         }
     }
 
-    fn clause_list(&self, predicate: (Symbol, u32), key: Option<IndexKey>) -> &'p [u32] {
+    /// The clauses a call of `predicate` may match, by the key of its argument at a position
+    /// (none: all of them).
+    fn clause_list(&self, predicate: (Symbol, u32), key: Option<(u32, IndexKey)>) -> &'p [u32] {
         let program: &'p Program = self.program;
         let Some(p) = program.predicates.get(&predicate) else { return &[] };
         match key {
-            Some(key) => p.by_key.get(&key).map_or(&p.var_first[..], |l| &l[..]),
+            Some((0, key)) => p.first.list(&key),
+            Some((position, key)) => program.index_at(p, position as usize).list(&key),
             None => &p.clauses,
         }
+    }
+
+    /// The argument a call of `predicate` with `args` is looked up by: the first when it is
+    /// bound (to an atom, a number, a string or a compound); else, where the predicate has
+    /// enough clauses, the bound argument with the fewest clauses to try (the leftmost among
+    /// equals); else none.
+    fn index_key(&self, predicate: (Symbol, u32), args: &[Cell]) -> Option<(u32, IndexKey)> {
+        let key_at = |machine: &Self, at: usize| index_key(&machine.heap, machine.deref(args[at]));
+        if let Some(key) = args.first().and_then(|_| key_at(self, 0)) {
+            return Some((0, key));
+        }
+        let program: &'p Program = self.program;
+        let p = program.predicates.get(&predicate)?;
+        if p.clauses.len() < INDEX_OTHERS_FROM {
+            return None;
+        }
+        let mut best: Option<(usize, (u32, IndexKey))> = None;
+        for at in 1..args.len() {
+            let Some(key) = key_at(self, at) else { continue };
+            let tried = program.index_at(p, at).list(&key).len();
+            if best.is_none_or(|(least, _)| tried < least) {
+                best = Some((tried, (at as u32, key)));
+            }
+        }
+        best.map(|(_, key)| key)
     }
 
     /// Renames `clause`, unifies its head with `goal`, and returns the continuation with its
@@ -877,7 +953,7 @@ impl<'p> Machine<'p> {
     /// Calls a user predicate: tries its clauses in order, leaving a choicepoint for the rest.
     fn call(&mut self, goal: Cell, name: Symbol, args: &[Cell], next: u32) -> Option<u32> {
         let predicate = (name, args.len() as u32);
-        let key = args.first().map(|a| self.deref(*a)).and_then(|a| index_key(&self.heap, a));
+        let key = self.index_key(predicate, args);
         let list = self.clause_list(predicate, key);
         let cut = self.choicepoints.len() as u32;
         for (position, &clause) in list.iter().enumerate() {
@@ -989,5 +1065,54 @@ mod tests {
             })
             .expect("no error");
         assert_eq!(seen, vec![Cell::Int(1), Cell::Int(2), Cell::Int(4)]);
+    }
+
+    /// Every answer of `name(X, second, Y)` with `X` and `Y` unbound, in order, and how many
+    /// clauses the call tries.
+    fn answers_by_second(text: &str, name: &str, second: i64) -> (Vec<(Cell, Cell)>, usize) {
+        let (program, mut frontend) = program(text);
+        let mut machine = Machine::new(&program, 100_000);
+        let name = frontend.interner.intern(name);
+        let (x, y) = (machine.new_var(), machine.new_var());
+        let args = [x, Cell::Int(second), y];
+        let key = machine.index_key((name, 3), &args);
+        let tried = machine.clause_list((name, 3), key).len();
+        let goal = machine.new_compound(name, &args);
+        let mut seen = Vec::new();
+        machine
+            .solve(goal, |m| {
+                seen.push((m.deref(x), m.deref(y)));
+                Next::More
+            })
+            .expect("no error");
+        (seen, tried)
+    }
+
+    #[test]
+    fn a_call_with_an_unbound_first_argument_is_narrowed_by_another() {
+        // Clauses whose second argument is a variable or a compound stay in their place.
+        let mut text: String = (0..40).map(|i| format!("r(c{i}, {}, {i}).\n", i % 4)).collect();
+        text.insert_str(text.find("r(c10,").expect("a tenth clause"), "r(v, _, 100).\nr(w, f(1), 101).\n");
+        text += "r(X, 2, 102) :- X = last.\n";
+        let (seen, tried) = answers_by_second(&text, "r", 2);
+        let values: Vec<i64> = seen
+            .iter()
+            .map(|(_, y)| match y {
+                Cell::Int(i) => *i,
+                other => panic!("an integer, not {other:?}"),
+            })
+            .collect();
+        // What Prolog answers: every clause in order whose second argument unifies with 2.
+        let mut expected: Vec<i64> = (0..40).filter(|i| i % 4 == 2).collect();
+        let at = expected.iter().position(|&i| i >= 10).expect("one from 10 on");
+        expected.insert(at, 100);
+        expected.push(102);
+        assert_eq!(values, expected);
+        // Only the clauses whose second argument is 2 or a variable are tried (not the one
+        // whose second argument is `f(1)`), also among four times as many clauses.
+        assert_eq!(tried, expected.len());
+        let mut more = text.clone();
+        more += &(40..160).map(|i| format!("r(c{i}, {}, {i}).\n", 5 + i % 3)).collect::<String>();
+        assert_eq!(answers_by_second(&more, "r", 2), (seen, tried));
     }
 }
