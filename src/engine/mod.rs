@@ -812,29 +812,29 @@ impl<'p> Machine<'p> {
         }
     }
 
-    /// The argument a call of `predicate` with `args` is looked up by: the first when it is
-    /// bound (to an atom, a number, a string or a compound); else, where the predicate has
-    /// enough clauses, the bound argument with the fewest clauses to try (the leftmost among
-    /// equals); else none.
-    fn index_key(&self, predicate: (Symbol, u32), args: &[Cell]) -> Option<(u32, IndexKey)> {
+    /// The argument a call of `predicate` with `args` is looked up by, and the clauses it may
+    /// match: by the first argument when it is bound (to an atom, a number, a string or a
+    /// compound); else, where the predicate has enough clauses, by the bound argument with the
+    /// fewest clauses to try (the leftmost among equals); else all of them, by none.
+    fn lookup(&self, predicate: (Symbol, u32), args: &[Cell]) -> (Option<(u32, IndexKey)>, &'p [u32]) {
+        let program: &'p Program = self.program;
+        let Some(p) = program.predicates.get(&predicate) else { return (None, &[]) };
         let key_at = |machine: &Self, at: usize| index_key(&machine.heap, machine.deref(args[at]));
         if let Some(key) = args.first().and_then(|_| key_at(self, 0)) {
-            return Some((0, key));
+            return (Some((0, key)), p.first.list(&key));
         }
-        let program: &'p Program = self.program;
-        let p = program.predicates.get(&predicate)?;
         if p.clauses.len() < INDEX_OTHERS_FROM {
-            return None;
+            return (None, &p.clauses);
         }
-        let mut best: Option<(usize, (u32, IndexKey))> = None;
+        let mut best: (Option<(u32, IndexKey)>, &'p [u32]) = (None, &p.clauses);
         for at in 1..args.len() {
             let Some(key) = key_at(self, at) else { continue };
-            let tried = program.index_at(p, at).list(&key).len();
-            if best.is_none_or(|(least, _)| tried < least) {
-                best = Some((tried, (at as u32, key)));
+            let list = program.index_at(p, at).list(&key);
+            if best.0.is_none() || list.len() < best.1.len() {
+                best = (Some((at as u32, key)), list);
             }
         }
-        best.map(|(_, key)| key)
+        best
     }
 
     /// Renames `clause`, unifies its head with `goal`, and returns the continuation with its
@@ -953,8 +953,7 @@ impl<'p> Machine<'p> {
     /// Calls a user predicate: tries its clauses in order, leaving a choicepoint for the rest.
     fn call(&mut self, goal: Cell, name: Symbol, args: &[Cell], next: u32) -> Option<u32> {
         let predicate = (name, args.len() as u32);
-        let key = self.index_key(predicate, args);
-        let list = self.clause_list(predicate, key);
+        let (key, list) = self.lookup(predicate, args);
         let cut = self.choicepoints.len() as u32;
         for (position, &clause) in list.iter().enumerate() {
             if position + 1 < list.len() {
@@ -1075,8 +1074,9 @@ mod tests {
         let name = frontend.interner.intern(name);
         let (x, y) = (machine.new_var(), machine.new_var());
         let args = [x, Cell::Int(second), y];
-        let key = machine.index_key((name, 3), &args);
-        let tried = machine.clause_list((name, 3), key).len();
+        let (key, list) = machine.lookup((name, 3), &args);
+        assert_eq!(machine.clause_list((name, 3), key), list, "a choicepoint finds the same clauses");
+        let tried = list.len();
         let goal = machine.new_compound(name, &args);
         let mut seen = Vec::new();
         machine
