@@ -165,7 +165,8 @@ impl ArgIndex {
 }
 
 /// Fewer clauses than this are tried in turn rather than looked up by an argument after the
-/// first (the lookup costs more than the unifications it saves).
+/// first. (A guess, not measured against other values: below it, building and asking an
+/// index buys at most a few failed head unifications.)
 const INDEX_OTHERS_FROM: usize = 8;
 
 /// A compiled program: the static KB.
@@ -340,12 +341,12 @@ impl Program {
         let id = self.clauses.len() as u32;
         let key = first.and_then(|c| index_key(&clause.cells, c));
         self.clauses.push(clause);
-        let predicate = self.predicates.entry((name, arity)).or_default();
+        let predicate = self.predicates.entry((name, arity)).or_insert_with(|| Predicate {
+            others: (1..arity).map(|_| std::cell::OnceCell::new()).collect(),
+            ..Predicate::default()
+        });
         predicate.clauses.push(id);
         predicate.first.add(id, key);
-        if predicate.others.is_empty() {
-            predicate.others = (1..arity).map(|_| std::cell::OnceCell::new()).collect();
-        }
     }
 
     /// The index of `predicate` on argument `position` (from 1; 0 is `first`), built from its
