@@ -56,6 +56,13 @@
 //! (measured before the reserving rule of `passes::reassign`: swap_b05_a3_s1 18 -> 13, nine
 //! moves -> seven; the sum over the 52 rungs of seed 1 2684 -> 2647 with the cycles of
 //! `session::temporal::reassign`, 25 -> 28 rungs within 1.3x of the bound).
+//!
+//! [`shortcut`] undoes a stop in time rather than in the arm: a block put down on its way
+//! (by the search, which on build rungs moves blocks from one free cell to the next) and taken
+//! on later by another job stays where it was, and that job takes it straight from there.
+//! build_b100_a8 of seed 4 had 52 blocks moved twice, 39 of them from a cell no other block
+//! ever needed; with shortcuts its makespan went 183 -> 155 against a bound of 136. Over the
+//! 52 rungs of seeds 1-5 the makespans summed 11431 -> 11340, none longer.
 
 use rustc_hash::FxHashMap;
 
@@ -864,6 +871,137 @@ pub fn merge(
     Ok(Rewritten { plan: plan_from(task, &replay.out), taken })
 }
 
+/// The shortcuts `plan` offers ([`shortcut`]): the pairs [`merges`] would look at (a
+/// relocatable start, the start of another job that takes what it moved on from there, each
+/// its job's only step between its start and end) where the second start names the place
+/// the thing left in a row, at the positions where the first start names where it took it
+/// from (in std/blocks.pl, the move's source cell), so the second can be named with the
+/// first's source instead.
+pub fn shortcuts(
+    successors: &mut Successors<'_>,
+    task: &mut Task,
+    plan: &Plan,
+    jobs: &crate::passes::reassign::Jobs<'_>,
+) -> Result<Vec<Merge>, Failure> {
+    let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
+    let leaving = rewriter.leaving(task, &path);
+    let alone = |start: usize| -> Option<usize> {
+        let end = rewriter.end_index[start]?;
+        let job = jobs.job_of(start)?;
+        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
+    };
+    let mut offered = Vec::new();
+    for (first, second) in leaving.iter().enumerate().filter_map(|(k, l)| l.map(|l| (k, l))) {
+        let distinct = alone(first).zip(alone(second)).is_some_and(|(j1, j2)| j1 != j2);
+        if distinct && rewriter.shortened_name(task, &path, first, second).is_some() {
+            offered.push(Merge { first, second });
+        }
+    }
+    Ok(offered)
+}
+
+/// `plan` with each of `shortcuts` taken, the inverse of a [`detour`](rewrite) in time: the
+/// first job's steps are left out, so the thing stays where it was, and the second job takes
+/// it from there, its start and end named with the first start's source in place of the
+/// place it no longer visits (the block waits on its cell and goes straight to its next
+/// place later: one grip, move and release fewer, and the first job's unit free for other
+/// work). A second job that would take the thing back to where it already stands is left
+/// out too. Shortcuts must not share a job.
+///
+/// Every step comes from the actions applicable in the state reached, so the result is a
+/// valid plan or none: a step that no longer applies (the place the thing now keeps was
+/// another step's destination, or something beneath it had to be cleared) blames the latest
+/// shortcut under way whose source the step names, else the latest under way
+/// (`Failure::Detour` with its index). Nothing in it is specific to a domain.
+pub fn shortcut(
+    successors: &mut Successors<'_>,
+    task: &mut Task,
+    plan: &Plan,
+    jobs: &crate::passes::reassign::Jobs<'_>,
+    shortcuts: &[Merge],
+) -> Result<Rewritten, Failure> {
+    let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
+    let mut skip = vec![false; path.len()];
+    // The second starts, named with their shortcut's source.
+    let mut renamed = vec![false; path.len()];
+    // Each shortcut's (source values, the step that ends it: the second start's end).
+    let mut under: Vec<(Vec<Term>, usize)> = Vec::with_capacity(shortcuts.len());
+    let mut first_of: FxHashMap<usize, usize> = FxHashMap::default();
+    for (s, cut) in shortcuts.iter().enumerate() {
+        let (j1, j2) = (jobs.job_of(cut.first), jobs.job_of(cut.second));
+        let (Some(j1), Some(j2), Some(end)) = (j1, j2, rewriter.end_index[cut.second]) else {
+            return Err(Failure::Detour(s));
+        };
+        let Some((name, source)) = rewriter.shortened_name(task, &path, cut.first, cut.second) else {
+            return Err(Failure::Detour(s));
+        };
+        if j1 == j2 || jobs.job(j1).iter().chain(jobs.job(j2)).any(|&k| skip[k]) {
+            return Err(Failure::Detour(s));
+        }
+        for &k in jobs.job(j1) {
+            skip[k] = true;
+        }
+        // Back to where it stands: nothing to do.
+        if rewriter.chosen_values(task, &path, cut.second) == source {
+            for &k in jobs.job(j2) {
+                skip[k] = true;
+            }
+        }
+        rewriter.names[cut.second] = name;
+        renamed[cut.second] = true;
+        under.push((source, end));
+        first_of.insert(cut.first, s);
+    }
+    let mut start_of: FxHashMap<usize, usize> = FxHashMap::default();
+    for (start, end) in rewriter.end_index.iter().enumerate() {
+        if let Some(end) = end {
+            start_of.insert(*end, start);
+        }
+    }
+    // Starts taken otherwise than the plan has them, by index.
+    let mut started: FxHashMap<usize, Applicable> = FxHashMap::default();
+    let mut active: Vec<(usize, Vec<Term>)> = Vec::new();
+    let mut taken = Vec::new();
+    let mut state = task.init.clone();
+    let mut out: Vec<Applicable> = Vec::with_capacity(path.len());
+    for (k, action) in path.iter().enumerate() {
+        active.retain(|(s, _)| under[*s].1 >= k);
+        if let Some(&s) = first_of.get(&k) {
+            active.push((s, under[s].0.clone()));
+            taken.push(s);
+        }
+        if skip[k] {
+            continue;
+        }
+        let step = match start_of.get(&k).and_then(|s| started.get(s)) {
+            Some(start) => {
+                let start = start.clone();
+                rewriter.end_of(task, &start, action, &state)
+            }
+            None if !renamed[k] && rewriter.applicable(task, &state, action) => Some(action.clone()),
+            None => {
+                let name = rewriter.names[k].clone();
+                rewriter.named(task, action.schema, &state, &name)
+            }
+        };
+        let Some(step) = step else {
+            let failed = rewriter.names[k].clone();
+            return Err(
+                to_blame(&active, |(_, values)| values, &failed).map_or(Failure::Plan, |(s, _)| Failure::Detour(*s))
+            );
+        };
+        if step != *action && task.schemas[step.schema].snap == Snap::Start {
+            started.insert(k, step.clone());
+        }
+        state = successors::apply(task, &state, &step);
+        out.push(step);
+    }
+    if !successors::goal_reached(task, &state) {
+        return Err(active.last().map_or(Failure::Plan, |(s, _)| Failure::Detour(*s)));
+    }
+    Ok(Rewritten { plan: plan_from(task, &out), taken })
+}
+
 /// The state of a [`merge`] replay.
 struct MergeReplay<'s, 'p, 'a> {
     rewriter: Rewriter<'s, 'p>,
@@ -1190,6 +1328,38 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     fn chosen_values(&self, task: &Task, path: &[Applicable], k: usize) -> Vec<Term> {
         let name = self.names[k].args();
         chosen_positions(task, path[k].schema).iter().map(|&p| name[p].clone()).collect()
+    }
+
+    /// Start `second`'s name with start `first`'s source where it names the place `first`
+    /// took the thing to (the values `first`'s name holds at the positions where `second`'s
+    /// holds `first`'s chosen values in a row, outside the chosen positions of either), and
+    /// that source; `None` when `second` names no such place or the source is the place.
+    fn shortened_name(
+        &self,
+        task: &Task,
+        path: &[Applicable],
+        first: usize,
+        second: usize,
+    ) -> Option<(Term, Vec<Term>)> {
+        let old = self.chosen_values(task, path, first);
+        if old.is_empty() {
+            return None;
+        }
+        let own = chosen_positions(task, path[second].schema);
+        let at = place_windows(self.names[second].args(), &old, &own).next()?;
+        let window = at..at + old.len();
+        let first_own = chosen_positions(task, path[first].schema);
+        if window.clone().any(|q| first_own.contains(&q)) {
+            return None;
+        }
+        let source = self.names[first].args().get(window.clone())?.to_vec();
+        if source == old {
+            return None;
+        }
+        let (functor, _) = self.names[second].callable()?;
+        let mut args = self.names[second].args().to_vec();
+        args[window].clone_from_slice(&source);
+        Some((Term::Compound(functor, args.into()), source))
     }
 
     /// The applicable instances of start `k`'s action in `state` named as it is but at its

@@ -1341,6 +1341,13 @@ impl Session {
         self.rearrange(plan, timed, Moves::Jobs)
     }
 
+    /// The `reassign` pass with shortcuts ([`crate::planner::detour::shortcut`]) alone: a
+    /// thing put down on its way and taken on later by another job stays where it was
+    /// until then.
+    pub fn shortcut(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {
+        self.rearrange(plan, timed, Moves::Shortcuts)
+    }
+
     /// The `reassign` pass with relocations ([`crate::planner::detour::relocate`]) and no
     /// detours.
     pub fn relocate(&mut self, plan: Plan, timed: Timed) -> (Plan, Timed) {

@@ -135,6 +135,8 @@ const DETOUR_RETRIES: usize = 16;
 pub(crate) enum Moves {
     /// Nothing: each job given to a unit again.
     Jobs,
+    /// Also shortcuts ([`shortcuts`]), and nothing else.
+    Shortcuts,
     /// Also where starts that leave a unit somewhere for a while leave it (relocations).
     Relocations,
     /// Also relocations and detours, once each, without merges.
@@ -164,9 +166,14 @@ pub(crate) enum Moves {
 /// thing stays put at most a quarter, one or four times the first job's length is a candidate,
 /// kept when shorter, up to [`MERGE_ROUNDS`] times.
 ///
-/// Relocations ([`relocations`]) run before the detours and again after them, and the merges
-/// after those; detours, relocations and merges run again, up to [`CYCLES`] times, while they
-/// gain; with `Moves::All`, a last relocation onto places being cleared
+/// Shortcuts ([`shortcuts`]): a thing put down on its way and taken on later by another job
+/// stays where it was and goes straight on then; every shortcut the plan offers at once, kept
+/// when shorter, up to [`SHORTCUT_ROUNDS`] times. Not on the way without the variants
+/// ([`BOTH_WAYS_STEPS`]): the two ways then differ, and the shorter is kept.
+///
+/// Relocations ([`relocations`]) run before the detours and again after them, the merges
+/// after those and the shortcuts last; detours, relocations, merges and shortcuts run again,
+/// up to [`CYCLES`] times, while they gain; with `Moves::All`, a last relocation onto places being cleared
 /// ([`relocations_onto_cleared`]) and a [`polish`]. Returns the plan and schedule kept (the
 /// given ones when nothing was shorter).
 ///
@@ -227,6 +234,10 @@ fn reassign_with(
     if moves == Moves::Jobs {
         return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0 };
     }
+    if moves == Moves::Shortcuts {
+        let (plan, timed, _) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
+        return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0 };
+    }
     // Relocating before the detours gives them shorter moves to work from; after them, the
     // places they chose are relocated in turn.
     let relocation = ("relocate", "starts relocated", relocations as Step);
@@ -248,6 +259,12 @@ fn reassign_with(
         }
         (plan, timed, joined) = pass(cx, ("merge", "jobs merged", merges), (plan, timed));
         merged += joined;
+        // (Only one way: a shortcut kept early can leave the later passes less to do, and
+        // the way without them keeps their path. Measured with shortcuts both ways, seeds
+        // 3 and 5: build_b50_a8_s3 60 -> 66, where `cleared` found nothing after them.)
+        if first != Rules::Fixed {
+            (plan, timed, _) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
+        }
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
         }
@@ -643,6 +660,44 @@ fn merges(
             if let Some(rewritten) = rewritten {
                 keep_shorter(cx, timed, rewritten, best);
             }
+        }
+    })
+}
+
+/// How many times [`reassign`] takes shortcuts in a plan it has just improved.
+const SHORTCUT_ROUNDS: usize = 4;
+
+/// The shortcut rounds of [`reassign`]: a thing put down on its way and taken on later by
+/// another job is left where it was and taken straight on by that job instead
+/// ([`crate::planner::detour::shortcut`]), all the shortcuts the plan offers at once (no two
+/// sharing a job), those a replay blames dropped; kept when the rewritten plan, scheduled
+/// and reassigned, is shorter. With how many shortcuts it kept.
+fn shortcuts(
+    cx: &mut Rearranging<'_, '_>,
+    (plan, timed): (crate::ir::plan::Plan, Timed),
+) -> (crate::ir::plan::Plan, Timed, usize) {
+    use crate::planner::detour;
+    let kb = cx.kb;
+    rounds(cx, (plan, timed), SHORTCUT_ROUNDS, |cx, plan, timed, best| {
+        let Some(jobs) = crate::passes::reassign::jobs(kb, plan) else { return };
+        let Ok(offered) = detour::shortcuts(&mut cx.successors, cx.task, plan, &jobs) else { return };
+        let mut used: Vec<usize> = Vec::new();
+        let mut set: Vec<detour::Merge> = Vec::new();
+        for cut in offered {
+            let js = [jobs.job_of(cut.first), jobs.job_of(cut.second)];
+            if js.iter().flatten().any(|j| used.contains(j)) {
+                continue;
+            }
+            used.extend(js.iter().flatten());
+            set.push(cut);
+        }
+        let rewritten = retried(cx, &mut set, |cx, set| {
+            let found = detour::shortcut(&mut cx.successors, cx.task, plan, &jobs, set)?;
+            let count = found.taken.len();
+            Ok((count > 0).then_some((found.plan, count)))
+        });
+        if let Some(rewritten) = rewritten {
+            keep_shorter(cx, timed, rewritten, best);
         }
     })
 }
