@@ -413,6 +413,46 @@ fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_wa
 }
 
 #[test]
+fn a_cycle_of_grid_moves_costs_one_of_its_blocks_a_stop_on_a_third_cell() {
+    // grid_b06_a2_s6: b1 goes to b2's cell and b2 to b1's. Whichever starts first finds its
+    // goal cell taken (a move starts only towards a cell nothing stands on), so it stops on a
+    // third cell first; next to each other as they are, that costs two units more at least.
+    // Seven units of moves for two agents gave a bound of 4; with the stop, 5. A plan of 5
+    // (the one `--improve` found) is valid, so 5 is the optimum.
+    let rung = Rung { family: Family::Grid, blocks: 6, arms: 2, seed: 6 };
+    let mut session = kbc::session::Session::from_text(&rung.name(), rung.source());
+    let bound = rung.lower_bound(&mut session);
+    let unit = kbc::ir::stn::UNITS;
+    assert_eq!((bound.aside, bound.makespan), (2 * unit, 5 * unit), "{bound:?}");
+    let moves = [
+        ("start", "a1, b6, 1, 1, 4, 1"),
+        ("start", "a2, b3, 2, 1, 1, 1"),
+        ("end", "a2, b3, 2, 1, 1, 1"),
+        ("start", "a2, b2, 2, 2, 2, 1"),
+        ("end", "a2, b2, 2, 2, 2, 1"),
+        ("start", "a2, b1, 1, 2, 2, 2"),
+        ("end", "a1, b6, 1, 1, 4, 1"),
+        ("start", "a1, b2, 2, 1, 1, 2"),
+        ("end", "a2, b1, 1, 2, 2, 2"),
+        ("start", "a2, b4, 3, 1, 2, 1"),
+        ("end", "a1, b2, 2, 1, 1, 2"),
+        ("end", "a2, b4, 3, 1, 2, 1"),
+    ];
+    let text: String =
+        moves.iter().enumerate().map(|(i, (snap, args))| format!("{} move_{snap}({args})\n", i + 1)).collect();
+    let file = session.add_text("five.plan", text);
+    let steps = session.read_plan_steps(file).expect("a plan file");
+    let verdict = session.validate(0, &steps);
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    let makespan = common::timed(&mut session, &verdict.plan).schedule.makespan;
+    assert!(bound.makespan <= makespan && makespan < 6 * unit, "{makespan} against {bound:?}");
+    // Without a cycle nothing is added (grid_b06_a2_s1: its plan of 5 meets its bound of 5).
+    let other = Rung { seed: 1, ..rung };
+    let mut session = kbc::session::Session::from_text(&other.name(), other.source());
+    assert_eq!(other.lower_bound(&mut session).aside, 0);
+}
+
+#[test]
 fn the_makespan_lower_bound_holds_for_improved_plans() {
     // Plans `--improve` shortened come closer to the bound than the default's: they test
     // what it proves where it matters most, on the swap and reverse rungs whose blocks wait.
