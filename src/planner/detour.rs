@@ -727,16 +727,11 @@ pub fn merges(
 ) -> Result<Vec<Merge>, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
-    let alone = |rewriter: &Rewriter<'_, '_>, start: usize| -> Option<usize> {
-        let end = rewriter.end_index[start]?;
-        let job = jobs.job_of(start)?;
-        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
-    };
     let mut offered = Vec::new();
     let mut state = task.init.clone();
     for (first, action) in path.iter().enumerate() {
         if let Some(second) = leaving[first]
-            && alone(&rewriter, first).zip(alone(&rewriter, second)).is_some_and(|(j1, j2)| j1 != j2)
+            && rewriter.alone(jobs, first).zip(rewriter.alone(jobs, second)).is_some_and(|(j1, j2)| j1 != j2)
             && let Some(merged) = merged_start(task, action, &rewriter.names[second])
             && rewriter.successors.applies_but_for_invalid(task, &merged, &state) == Ok(true)
         {
@@ -885,14 +880,9 @@ pub fn shortcuts(
 ) -> Result<Vec<Merge>, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
-    let alone = |start: usize| -> Option<usize> {
-        let end = rewriter.end_index[start]?;
-        let job = jobs.job_of(start)?;
-        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
-    };
     let mut offered = Vec::new();
     for (first, second) in leaving.iter().enumerate().filter_map(|(k, l)| l.map(|l| (k, l))) {
-        let distinct = alone(first).zip(alone(second)).is_some_and(|(j1, j2)| j1 != j2);
+        let distinct = rewriter.alone(jobs, first).zip(rewriter.alone(jobs, second)).is_some_and(|(j1, j2)| j1 != j2);
         if distinct && rewriter.shortened_name(task, &path, first, second).is_some() {
             offered.push(Merge { first, second });
         }
@@ -1328,6 +1318,13 @@ impl<'s, 'p> Rewriter<'s, 'p> {
     fn chosen_values(&self, task: &Task, path: &[Applicable], k: usize) -> Vec<Term> {
         let name = self.names[k].args();
         chosen_positions(task, path[k].schema).iter().map(|&p| name[p].clone()).collect()
+    }
+
+    /// The job of start `start` if it is the job's only step between the start and its end.
+    fn alone(&self, jobs: &crate::passes::reassign::Jobs<'_>, start: usize) -> Option<usize> {
+        let end = self.end_index[start]?;
+        let job = jobs.job_of(start)?;
+        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
     }
 
     /// Start `second`'s name with start `first`'s source where it names the place `first`
