@@ -232,24 +232,24 @@ fn reassign_with(
         (plan, timed, 0)
     });
     if moves == Moves::Jobs {
-        return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0 };
+        return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0, shortcuts: 0 };
     }
     if moves == Moves::Shortcuts {
-        let (plan, timed, _) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
-        return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0 };
+        let (plan, timed, cut) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
+        return Rearranged { plan, timed, detours: 0, relocated: 0, merged: 0, shortcuts: cut };
     }
     // Relocating before the detours gives them shorter moves to work from; after them, the
     // places they chose are relocated in turn.
     let relocation = ("relocate", "starts relocated", relocations as Step);
     let (plan, timed, relocated) = pass(cx, relocation, (plan, timed));
     if moves == Moves::Relocations {
-        return Rearranged { plan, timed, detours: 0, relocated, merged: 0 };
+        return Rearranged { plan, timed, detours: 0, relocated, merged: 0, shortcuts: 0 };
     }
     let (mut plan, mut timed) = (plan, timed);
-    let (mut sent, mut relocated, mut merged) = (0, relocated, 0);
+    let (mut sent, mut relocated, mut merged, mut cut) = (0, relocated, 0, 0);
     for _ in 0..CYCLES {
         let start = timed.schedule.makespan;
-        let (aside, again, joined);
+        let (aside, again, joined, taken);
         (plan, timed, aside) = pass(cx, ("detour", "starts sent aside", detours), (plan, timed));
         sent += aside;
         (plan, timed, again) = pass(cx, relocation, (plan, timed));
@@ -263,7 +263,8 @@ fn reassign_with(
         // the way without them keeps their path. Measured with shortcuts both ways, seeds
         // 3 and 5: build_b50_a8_s3 60 -> 66, where `cleared` found nothing after them.)
         if first != Rules::Fixed {
-            (plan, timed, _) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
+            (plan, timed, taken) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
+            cut += taken;
         }
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
@@ -276,7 +277,7 @@ fn reassign_with(
         relocated += again;
         (plan, timed, _) = pass(cx, ("polish", "rounds kept", polish), (plan, timed));
     }
-    Rearranged { plan, timed, detours: sent, relocated, merged }
+    Rearranged { plan, timed, detours: sent, relocated, merged, shortcuts: cut }
 }
 
 /// A pass's makespan before and after, for `-v`.
@@ -396,6 +397,8 @@ pub(crate) struct Rearranged {
     pub relocated: usize,
     /// How many pairs of jobs it made one ([`crate::planner::detour::merge`]).
     pub merged: usize,
+    /// How many stops on the way it left out ([`crate::planner::detour::shortcut`]).
+    pub shortcuts: usize,
 }
 
 /// What [`rearrange`], [`relocations`] and [`detours`] work with: the KB, its names, the
