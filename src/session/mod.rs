@@ -830,7 +830,9 @@ impl Session {
     /// 2, ... ([`PlanSettings::tie_seed`]), each plan scheduled, rearranged and followed by
     /// the second search as the first was, until the improvement's time is over or the
     /// searches have expanded `settings.max_states` states in all (`spent` by the first); the
-    /// shortest schedule is kept (the first among equals). The improvement's time is its share
+    /// shortest schedule is kept (the first among equals). A restart begins only while the
+    /// time left is at least what the last one took, and one whose search ends with the time
+    /// up is not scheduled. The improvement's time is its share
     /// of `--improve`, or what the first search's improving (`improving`: it scores each plan
     /// it finds with the passes, and overruns its own share by up to one plan's passes) left
     /// of the whole if less.
@@ -880,12 +882,16 @@ impl Session {
         // Their warnings are the first search's; their failures do not matter.
         let mut quiet = Diagnostics::new();
         std::mem::swap(&mut quiet, &mut self.diagnostics);
+        // How long the last restart took, whole: one that would not end before `until` is
+        // not begun (its passes run after its search, past the time).
+        let mut last = std::time::Duration::ZERO;
         for seed in 1.. {
             let left = until.saturating_duration_since(Instant::now());
             let states = settings.max_states.saturating_sub(spent);
-            if left.is_zero() || states == 0 {
+            if left.is_zero() || states == 0 || left < last {
                 break;
             }
+            let began = Instant::now();
             restarted += 1;
             let timeout = Some(settings.timeout.map_or(left, |t| t.min(left)));
             let again =
@@ -896,10 +902,17 @@ impl Session {
                 Err(failed) => failed.stats.expanded.max(1),
             };
             let Ok(searched) = searched else { continue };
+            // (A search that ended with the time up: its plan is not rearranged after it.)
+            if Instant::now() >= until {
+                break;
+            }
             let (plans, stats) = (searched.plans.clone(), Some(searched.stats));
             let origin = format!("heuristic search restarted with tie-break seed {seed}");
-            let Ok(found) = self.schedule_best(ground, plans, origin, stats, &again) else { continue };
+            let found = self.schedule_best(ground, plans, origin, stats, &again);
+            last = began.elapsed();
+            let Ok(found) = found else { continue };
             let found = self.second_search(problem, ground, found, &again, progress);
+            last = began.elapsed();
             if found.timed.schedule.makespan < best.timed.schedule.makespan {
                 best = found;
                 kept = Some(seed);
