@@ -62,7 +62,7 @@
 //! on later by another job stays where it was, and that job takes it straight from there.
 //! build_b100_a8 of seed 4 had 52 blocks moved twice, 39 of them from a cell no other block
 //! ever needed; with shortcuts its makespan went 183 -> 155 against a bound of 136. Over the
-//! 52 rungs of seeds 1-5 the makespans summed 11431 -> 11340, none longer.
+//! 52 rungs of each of seeds 1-5 (260 in all) the makespans summed 11431 -> 11340, none longer.
 
 use rustc_hash::FxHashMap;
 
@@ -731,7 +731,7 @@ pub fn merges(
     let mut state = task.init.clone();
     for (first, action) in path.iter().enumerate() {
         if let Some(second) = leaving[first]
-            && rewriter.alone(jobs, first).zip(rewriter.alone(jobs, second)).is_some_and(|(j1, j2)| j1 != j2)
+            && rewriter.in_two_jobs(jobs, first, second)
             && let Some(merged) = merged_start(task, action, &rewriter.names[second])
             && rewriter.successors.applies_but_for_invalid(task, &merged, &state) == Ok(true)
         {
@@ -882,8 +882,7 @@ pub fn shortcuts(
     let leaving = rewriter.leaving(task, &path);
     let mut offered = Vec::new();
     for (first, second) in leaving.iter().enumerate().filter_map(|(k, l)| l.map(|l| (k, l))) {
-        let distinct = rewriter.alone(jobs, first).zip(rewriter.alone(jobs, second)).is_some_and(|(j1, j2)| j1 != j2);
-        if distinct && rewriter.shortened_name(task, &path, first, second).is_some() {
+        if rewriter.in_two_jobs(jobs, first, second) && rewriter.shortened_name(task, &path, first, second).is_some() {
             offered.push(Merge { first, second });
         }
     }
@@ -1320,11 +1319,15 @@ impl<'s, 'p> Rewriter<'s, 'p> {
         chosen_positions(task, path[k].schema).iter().map(|&p| name[p].clone()).collect()
     }
 
-    /// The job of start `start` if it is the job's only step between the start and its end.
-    fn alone(&self, jobs: &crate::passes::reassign::Jobs<'_>, start: usize) -> Option<usize> {
-        let end = self.end_index[start]?;
-        let job = jobs.job_of(start)?;
-        (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
+    /// Whether starts `first` and `second` are in two different jobs, each its job's only step
+    /// between the start and its end.
+    fn in_two_jobs(&self, jobs: &crate::passes::reassign::Jobs<'_>, first: usize, second: usize) -> bool {
+        let alone = |start: usize| -> Option<usize> {
+            let end = self.end_index[start]?;
+            let job = jobs.job_of(start)?;
+            (jobs.job_of(end) == Some(job) && !jobs.job(job).iter().any(|&k| k > start && k < end)).then_some(job)
+        };
+        alone(first).zip(alone(second)).is_some_and(|(j1, j2)| j1 != j2)
     }
 
     /// Start `second`'s name with start `first`'s source where it names the place `first`

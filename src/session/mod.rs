@@ -908,11 +908,11 @@ impl Session {
             }
             let (plans, stats) = (searched.plans.clone(), Some(searched.stats));
             let origin = format!("heuristic search restarted with tie-break seed {seed}");
-            let found = self.schedule_best(ground, plans, origin, stats, &again);
+            let found = self
+                .schedule_best(ground, plans, origin, stats, &again)
+                .map(|found| self.second_search(problem, ground, found, &again, progress));
             last = began.elapsed();
             let Ok(found) = found else { continue };
-            let found = self.second_search(problem, ground, found, &again, progress);
-            last = began.elapsed();
             if found.timed.schedule.makespan < best.timed.schedule.makespan {
                 best = found;
                 kept = Some(seed);

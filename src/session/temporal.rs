@@ -260,8 +260,8 @@ fn reassign_with(
         (plan, timed, joined) = pass(cx, ("merge", "jobs merged", merges), (plan, timed));
         merged += joined;
         // (Only one way: a shortcut kept early can leave the later passes less to do, and
-        // the way without them keeps their path. Measured with shortcuts both ways, seeds
-        // 3 and 5: build_b50_a8_s3 60 -> 66, where `cleared` found nothing after them.)
+        // the way without them keeps their path. Measured with shortcuts both ways:
+        // build_b50_a8_s3 60 -> 66, where `cleared` found nothing after them.)
         if first != Rules::Fixed {
             (plan, timed, taken) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
             cut += taken;
@@ -641,16 +641,8 @@ fn merges(
         let mut tried: Vec<Vec<detour::Merge>> = Vec::new();
         for quarters in MERGE_STAYS {
             // Merges that share no job, the briefest stays first.
-            let mut set: Vec<detour::Merge> = Vec::new();
-            let mut used: Vec<usize> = Vec::new();
-            for (stay, length, merge) in &ranked {
-                let js = [jobs.job_of(merge.first), jobs.job_of(merge.second)];
-                if 4 * stay > quarters.saturating_mul(*length) || js.iter().flatten().any(|j| used.contains(j)) {
-                    continue;
-                }
-                used.extend(js.iter().flatten());
-                set.push(*merge);
-            }
+            let brief = ranked.iter().filter(|(stay, length, _)| 4 * stay <= quarters.saturating_mul(*length));
+            let mut set = sharing_no_job(&jobs, brief.map(|(_, _, merge)| *merge));
             if set.is_empty() || tried.contains(&set) {
                 continue;
             }
@@ -665,6 +657,25 @@ fn merges(
             }
         }
     })
+}
+
+/// Of `pairs` (merges or shortcuts), in their order, each that shares no job with one taken
+/// before it.
+fn sharing_no_job(
+    jobs: &crate::passes::reassign::Jobs<'_>,
+    pairs: impl IntoIterator<Item = crate::planner::detour::Merge>,
+) -> Vec<crate::planner::detour::Merge> {
+    let mut used: Vec<usize> = Vec::new();
+    let mut set = Vec::new();
+    for pair in pairs {
+        let js = [jobs.job_of(pair.first), jobs.job_of(pair.second)];
+        if js.iter().flatten().any(|j| used.contains(j)) {
+            continue;
+        }
+        used.extend(js.iter().flatten());
+        set.push(pair);
+    }
+    set
 }
 
 /// How many times [`reassign`] takes shortcuts in a plan it has just improved.
@@ -684,16 +695,7 @@ fn shortcuts(
     rounds(cx, (plan, timed), SHORTCUT_ROUNDS, |cx, plan, timed, best| {
         let Some(jobs) = crate::passes::reassign::jobs(kb, plan) else { return };
         let Ok(offered) = detour::shortcuts(&mut cx.successors, cx.task, plan, &jobs) else { return };
-        let mut used: Vec<usize> = Vec::new();
-        let mut set: Vec<detour::Merge> = Vec::new();
-        for cut in offered {
-            let js = [jobs.job_of(cut.first), jobs.job_of(cut.second)];
-            if js.iter().flatten().any(|j| used.contains(j)) {
-                continue;
-            }
-            used.extend(js.iter().flatten());
-            set.push(cut);
-        }
+        let mut set = sharing_no_job(&jobs, offered);
         let rewritten = retried(cx, &mut set, |cx, set| {
             let found = detour::shortcut(&mut cx.successors, cx.task, plan, &jobs, set)?;
             let count = found.taken.len();
