@@ -72,6 +72,11 @@ impl Consts {
         id
     }
 
+    /// The id of `value` if it has been interned.
+    pub fn find(&self, value: &Const) -> Option<ConstId> {
+        self.map.get(value).copied()
+    }
+
     /// The term behind an id.
     pub fn get(&self, id: ConstId) -> &Const {
         &self.items[id.0 as usize]

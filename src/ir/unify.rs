@@ -23,7 +23,7 @@ pub fn unifiable(a: &Term, b: &Term) -> bool {
 /// True if `a` and `b` differ where neither has a variable (a functor, an arity or a
 /// constant), so that no bindings can make them equal. It allocates nothing, which makes it
 /// the cheap first test of [`unifiable`]: most pairs asked about differ at their functor.
-fn clash(a: &Term, b: &Term) -> bool {
+pub fn clash(a: &Term, b: &Term) -> bool {
     match (a, b) {
         (Term::Var(_), _) | (_, Term::Var(_)) => false,
         (Term::Compound(f, xs), Term::Compound(g, ys)) => {
