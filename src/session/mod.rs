@@ -202,6 +202,13 @@ impl PlanSettings {
     fn scored(&self) -> bool {
         self.improve.is_some() && self.reassigns()
     }
+
+    /// Whether `reassign` takes every plan both ways, whatever its size (see
+    /// `temporal::BOTH_WAYS_STEPS`): while improving, that is with `improve` and in its
+    /// restarts (which set `tie_seed`).
+    fn thorough(&self) -> bool {
+        self.improve.is_some() || self.tie_seed.is_some()
+    }
 }
 
 /// The share of `--improve`'s time that the search spends improving its own first plan
@@ -1235,6 +1242,7 @@ impl Session {
                                 task,
                                 (std::mem::take(plan), timed),
                                 Moves::All,
+                                settings.thorough(),
                                 &mut self.memo,
                             ),
                         };
@@ -1380,7 +1388,7 @@ impl Session {
         self.task(problem);
         let task = self.tasks[problem].as_mut().expect("built above");
         let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
-        let rearranged = temporal::reassign(kb, interner, &program, task, (plan, timed), moves, &mut self.memo);
+        let rearranged = temporal::reassign(kb, interner, &program, task, (plan, timed), moves, false, &mut self.memo);
         (rearranged.plan, rearranged.timed)
     }
 

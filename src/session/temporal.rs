@@ -177,9 +177,10 @@ pub(crate) enum Moves {
 /// ([`relocations_onto_cleared`]) and a [`polish`]. Returns the plan and schedule kept (the
 /// given ones when nothing was shorter).
 ///
-/// A plan of at most [`BOTH_WAYS_STEPS`] steps goes through all of this twice, the second time
-/// without the variants ([`Rules::Fixed`], pass `fixed rules` in `-v`), and the shorter result
-/// is kept.
+/// A plan of at most [`BOTH_WAYS_STEPS`] steps, or of any size when `thorough` (while
+/// improving), goes through all of this twice, the second time without the variants
+/// ([`Rules::Fixed`], pass `fixed rules` in `-v`), and the shorter result is kept.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn reassign(
     kb: &Kb,
     interner: &Interner,
@@ -187,9 +188,11 @@ pub(crate) fn reassign(
     task: &mut crate::ir::task::Task,
     (plan, timed): (crate::ir::plan::Plan, Timed),
     moves: Moves,
+    thorough: bool,
     memo: &mut Memo,
 ) -> Rearranged {
-    let again = (plan.steps.len() <= BOTH_WAYS_STEPS).then(|| (plan.clone(), timed.clone()));
+    let both_ways = thorough || plan.steps.len() <= BOTH_WAYS_STEPS;
+    let again = both_ways.then(|| (plan.clone(), timed.clone()));
     // One generator for every plan checked (both ways), so that OnKB goals are proven once.
     let engine = crate::engine::Machine::new(program, crate::planner::Budget::default().engine_steps);
     let successors = crate::planner::successors::Successors::new(task, engine);
@@ -212,7 +215,11 @@ pub(crate) fn reassign(
 /// ladder rung both ways), the sums of makespans over seeds 1/2/3 went 2300/2231/2322 ->
 /// 2299/2220/2318 (build_b100_a10_s2 137 -> 129, none longer), but the nine rungs it
 /// shortened took 1.3-1.65 times as long, some longer than before the speed-ups of the same
-/// session (swap_b75_a10_s1: 0.84 s at cd2accf, 1.11 s so).
+/// session (swap_b75_a10_s1: 0.84 s at cd2accf, 1.11 s so). While improving, where the time
+/// is the user's, every plan goes both ways (`kbc bench --improve 1`, seeds 1/2: makespans
+/// summed 2260/2199 -> 2253/2192, within 1.15x of the bound 39/37 -> 40/38; swap_b100_a8_s1
+/// 222 -> 216, build_b100_a10_s2 135 -> 128; swap_b75_a10_s2 95 -> 96, its restarts
+/// fewer in the time; the slowest rung 2.18/2.25 -> 2.08/2.55 s).
 const BOTH_WAYS_STEPS: usize = 400;
 
 /// [`reassign`] once, with `first` the rules of the first rearrangement.
@@ -880,7 +887,8 @@ impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
         let (kb, interner, program) = (self.kb, self.interner, self.program);
-        let rearranged = reassign(kb, interner, program, task, (plan.clone(), timed), Moves::All, &mut self.memo);
+        // (The scorer runs while improving: thorough.)
+        let rearranged = reassign(kb, interner, program, task, (plan.clone(), timed), Moves::All, true, &mut self.memo);
         let makespan = rearranged.timed.schedule.makespan;
         if self.best.as_ref().is_none_or(|(_, best)| makespan < best.timed.schedule.makespan) {
             self.best = Some((plan.clone(), rearranged));
