@@ -148,6 +148,10 @@ pub struct PlanSettings {
     /// Break the heuristic search's last ties by a hash of this seed (see
     /// [`Options::tie_seed`]); the restarts of `improve` set it.
     pub tie_seed: Option<u64>,
+    /// Let `reassign` spend more time on every plan: each goes both ways, with and without the
+    /// variants of its rules, whatever its size (see `session::temporal::reassign`). Always so
+    /// while improving (`improve`, and its restarts and second searches, which set this).
+    pub thorough: bool,
 }
 
 impl Default for PlanSettings {
@@ -167,6 +171,7 @@ impl Default for PlanSettings {
             symmetry: true,
             lookahead: planner::Lookahead::Auto,
             tie_seed: None,
+            thorough: false,
         }
     }
 }
@@ -203,11 +208,10 @@ impl PlanSettings {
         self.improve.is_some() && self.reassigns()
     }
 
-    /// Whether `reassign` takes every plan both ways, whatever its size (see
-    /// `temporal::BOTH_WAYS_STEPS`): while improving, that is with `improve` and in its
-    /// restarts (which set `tie_seed`).
+    /// Whether `reassign` runs thorough ([`PlanSettings::thorough`]): when asked, and always
+    /// while improving.
     fn thorough(&self) -> bool {
-        self.improve.is_some() || self.tie_seed.is_some()
+        self.thorough || self.improve.is_some()
     }
 }
 
@@ -787,9 +791,11 @@ impl Session {
     /// up to about 0.8 s more on a grid rung, most of it grounding the relaxation again; it
     /// now starts from the first search's set-up, `planner::Prepared`: 0.51 -> 0.11 s on
     /// grid_b20_a3_s3.) With
-    /// `--improve` it runs as it would without, so that improving never ends with a longer
+    /// `--improve` it searches as it would without, so that improving never ends with a longer
     /// makespan than the default run (it had: build_b25_a6 35 by default, 46 with `--improve
-    /// 1`). Plans from `--no-reassign`, the paper's search or a plan file are kept as they are.
+    /// 1`); its plans go through the thorough `reassign` ([`PlanSettings::thorough`]), which
+    /// keeps the default way's result unless its other way is shorter. Plans from
+    /// `--no-reassign`, the paper's search or a plan file are kept as they are.
     fn second_search(
         &mut self,
         problem: usize,
@@ -807,8 +813,13 @@ impl Session {
         if !settings.reassigns() || settings.lookahead != planner::Lookahead::Auto || from_start {
             return planned;
         }
-        let ahead =
-            PlanSettings { lookahead: planner::Lookahead::On, max_states: expanded, improve: None, ..settings.clone() };
+        let ahead = PlanSettings {
+            lookahead: planner::Lookahead::On,
+            max_states: expanded,
+            improve: None,
+            thorough: settings.thorough(),
+            ..settings.clone()
+        };
         // Its warnings are the first search's; its failures do not matter.
         let mut quiet = Diagnostics::new();
         std::mem::swap(&mut quiet, &mut self.diagnostics);
@@ -901,8 +912,14 @@ impl Session {
             let began = Instant::now();
             restarted += 1;
             let timeout = Some(settings.timeout.map_or(left, |t| t.min(left)));
-            let again =
-                PlanSettings { improve: None, tie_seed: Some(seed), timeout, max_states: states, ..settings.clone() };
+            let again = PlanSettings {
+                improve: None,
+                tie_seed: Some(seed),
+                timeout,
+                max_states: states,
+                thorough: true,
+                ..settings.clone()
+            };
             let searched = self.search(problem, &again, progress);
             spent += match &searched {
                 Ok(searched) => searched.stats.expanded,
