@@ -646,16 +646,17 @@ fn next_step(
         let (at, unit) = match job {
             Some(j) if !units.started[j] => {
                 let template = problem.jobs[j].template;
-                let free: Vec<usize> =
-                    (0..problem.units.len()).filter(|&u| !units.held[u] && problem.units[u].0 == template).collect();
+                // (Counted and searched in place, not collected into a list for every ready
+                // step after every placement: swap_b100_a10_s1's simulations 3991 -> 3860 M
+                // instructions.)
+                let free = || (0..problem.units.len()).filter(|&u| !units.held[u] && problem.units[u].0 == template);
                 if let Some(waiting) = reserve
-                    && free.len() <= waiting + 1
+                    && free().nth(waiting + 1).is_none()
                     && waits_for_unstarted(problem, time, units.started, j)
                 {
                     continue;
                 }
-                let Some(unit) =
-                    free.into_iter().min_by_key(|&u| (units.free_at[u].max(ready), u != problem.jobs[j].unit, u))
+                let Some(unit) = free().min_by_key(|&u| (units.free_at[u].max(ready), u != problem.jobs[j].unit, u))
                 else {
                     continue;
                 };
