@@ -1366,3 +1366,78 @@ counter :- go([count(0)], [count(6)]).
     let again = searched_after_as_alone("counter.pl", source, &first, &later);
     assert_eq!(again.plans[0].steps.len(), 12);
 }
+
+/// The names of the actions applicable in `state`, as `base(args)` with their arguments'
+/// values, sorted.
+fn applicable_names(
+    frontend: &Frontend,
+    task: &mut kbc::ir::task::Task,
+    successors: &mut Successors<'_>,
+    state: &kbc::ir::task::State,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    successors.applicable(task, state, &mut out).expect("no engine error");
+    let mut names: Vec<String> = out
+        .iter()
+        .map(|a| {
+            let schema = &task.schemas[a.schema];
+            let args: Vec<String> =
+                a.bindings.iter().take(1).map(|b| const_text(frontend, task, b.expect("bound"))).collect();
+            format!("{}({})", frontend.interner.resolve(schema.base), args.join(", "))
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_running_start_and_a_start_the_goal_forbids_do_not_apply() {
+    // docs/dsl.md: a ground durative action does not overlap itself, and an InvalidAtEnd
+    // literal that unifies with a goal literal rules the action out. The generator checks the
+    // first by looking up a running constant (never interning one per candidate) and the
+    // second against only the goal literals that may unify (found once per schema): both must
+    // keep their meaning, with goal literals of the same name and arity, of another arity,
+    // and with a variable among them.
+    let source = "spot(a). spot(b). spot(c).
+action(beep_start(S), [], [], [], [spot(S)], [add(beeping(S))]).
+action(beep_end(S), [beeping(S)], [], [], [], [del(beeping(S)), add(beeped(S)), add(tag(S, 1, 2))]).
+action(poke_start(S), [], [], [poked(S, _)], [spot(S)], []).
+action(poke_end(S), [], [], [], [], [add(poked(S, 1))]).
+duration(beep(_), 1, 2).
+duration(poke(_), 1, 2).
+t1 :- go([], [beeped(a), beeped(b), poked(b, 1), beeped(c), tag(c, 1, 2)]).
+t2 :- go([], [beeped(a), poked(_, 1)]).
+"
+    .to_string();
+    let frontend = from_text("overlap.pl", source);
+    let names_of = |problem: usize, beeps: &[&str]| {
+        let mut task = passes::task::build(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, problem);
+        let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+        let mut state = task.init.clone();
+        for &spot in beeps {
+            let mut out = Vec::new();
+            successors.applicable(&mut task, &state, &mut out).expect("no engine error");
+            let start = out
+                .iter()
+                .find(|a| {
+                    frontend.interner.resolve(task.schemas[a.schema].base) == "beep"
+                        && task.schemas[a.schema].snap == Snap::Start
+                        && const_text(&frontend, &task, a.bindings[0].expect("bound")) == spot
+                })
+                .expect("the start applies")
+                .clone();
+            state = successors::apply(&mut task, &state, &start);
+        }
+        applicable_names(&frontend, &mut task, &mut successors, &state)
+    };
+    // t1: poked(b, 1) forbids poke_start(b); beeped(c) and tag(c, 1, 2) have other names.
+    assert_eq!(names_of(0, &[]), ["beep(a)", "beep(b)", "beep(c)", "poke(a)", "poke(c)"]);
+    // beep(a) runs: its start does not apply again, its end does.
+    assert_eq!(names_of(0, &["a"]), ["beep(a)", "beep(b)", "beep(c)", "poke(a)", "poke(c)"]);
+    let running = names_of(0, &["a", "c"]);
+    assert_eq!(running.iter().filter(|n| *n == "beep(a)").count(), 1, "{running:?}");
+    assert_eq!(running.iter().filter(|n| *n == "beep(b)").count(), 1, "{running:?}");
+    // t2: poked(_, 1) unifies with every poke_start's poked(S, _).
+    assert_eq!(names_of(1, &[]), ["beep(a)", "beep(b)", "beep(c)"]);
+}
