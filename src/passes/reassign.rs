@@ -568,6 +568,22 @@ impl Bounds {
         self.epoch += 1;
     }
 
+    /// The lower bound of step `i`, one of `placed.ready` (all its predecessors placed): the
+    /// simulation asks this of every ready step after every placement, where [`Bounds::get`]
+    /// would check its predecessors first.
+    fn ready(&mut self, problem: &Problem, placed: Placed<'_>, i: usize) -> i64 {
+        if self.stamp[i] == self.epoch {
+            return self.value[i];
+        }
+        let time = placed.time;
+        let bound = problem.preds[i].iter().fold(placed.now, |acc, &(p, separation)| {
+            acc.max(time[p].expect("a ready step's predecessors are placed") + separation)
+        });
+        self.value[i] = bound;
+        self.stamp[i] = self.epoch;
+        bound
+    }
+
     /// The lower bound of step `i` (its time, if placed).
     fn get(&mut self, problem: &Problem, placed: Placed<'_>, i: usize) -> i64 {
         let time = placed.time;
@@ -641,7 +657,7 @@ fn next_step(
     let mut best: Option<((i64, i64, usize), Option<usize>)> = None; // ((time, rank, step), unit)
     for &i in placed.ready {
         debug_assert!(time[i].is_none() && problem.preds[i].iter().all(|&(p, _)| time[p].is_some()));
-        let ready = bounds.get(problem, placed, i);
+        let ready = bounds.ready(problem, placed, i);
         let job = problem.job_of[i];
         let (at, unit) = match job {
             Some(j) if !units.started[j] => {
