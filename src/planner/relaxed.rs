@@ -171,8 +171,9 @@ struct Exclusion {
     dels: Box<[u32]>,
     /// Per variable of the rule: whether the deleting action is instantiated over it (those
     /// of the body, of those deletions and of the Invalid literals). (Flags rather than lists:
-    /// the keys of the two parts are built from them for every instantiation recorded, and
-    /// looking each variable up in a list took 9% of the 100-block set-up's instructions.)
+    /// the keys of the two parts are built from them for every instantiation recorded; with
+    /// each variable looked up in a list, reverse_b100_a8_s1's grounding took 3892 M
+    /// instructions, 3619 M so.)
     deleting: Box<[bool]>,
 }
 
@@ -839,8 +840,9 @@ impl Relaxation {
     fn offer(&mut self, pred: PredId, values: &[ConstId], cost: u32, support: Support) -> bool {
         let Some(count) = self.views_of_pred.get(&pred).map(Vec::len) else { return false };
         // (The projection in scratch space: offers come by the hundred thousand while
-        // grounding, and a fresh vector, with a copy of the view list, each time took a tenth
-        // of them.)
+        // grounding. With a fresh vector and a copy of the view list for each, and the heads
+        // cloned in `fire`, reverse_b100_a8_s1's grounding took 4557 M instructions; 3892 M
+        // without.)
         let mut projected = std::mem::take(&mut self.projected);
         let mut supported = false;
         for k in 0..count {
