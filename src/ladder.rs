@@ -117,41 +117,41 @@ pub fn standard() -> Vec<Rung> {
 /// A tower: a cell and its blocks, bottom first.
 type Tower = ((usize, usize), Vec<usize>);
 
-impl Rung {
-    /// The cycles of a grid rung's moves ([`LowerBound`]): blocks each of whose goal cells
-    /// the next one's start cell is, round to the first, in the order of their first block
-    /// (the least block of each).
-    fn grid_cycles(
-        &self,
-        from: &std::collections::BTreeMap<usize, (usize, usize)>,
-        to: &std::collections::BTreeMap<usize, (usize, usize)>,
-    ) -> Vec<Vec<usize>> {
-        let standing: std::collections::BTreeMap<(usize, usize), usize> = from.iter().map(|(&b, &c)| (c, b)).collect();
-        // The block on `b`'s goal cell at the start, if it must move too.
-        let next = |b: usize| standing.get(&to[&b]).copied().filter(|&n| n != b && from[&n] != to[&n]);
-        let mut seen = std::collections::BTreeSet::new();
-        let mut cycles = Vec::new();
-        for &b in to.keys() {
-            if seen.contains(&b) || from[&b] == to[&b] {
-                continue;
-            }
-            // Follow the chain from b until it ends or meets a block seen before.
-            let mut chain = vec![b];
-            seen.insert(b);
-            while let Some(n) = next(*chain.last().expect("not empty")) {
-                if let Some(at) = chain.iter().position(|&c| c == n) {
-                    cycles.push(chain[at..].to_vec());
-                    break;
-                }
-                if !seen.insert(n) {
-                    break;
-                }
-                chain.push(n);
-            }
+/// The cycles of a grid rung's moves ([`LowerBound`]): blocks each of whose goal cells
+/// the next one's start cell is, round to the first, in the order of their first block
+/// (the least block of each).
+fn grid_cycles(
+    from: &std::collections::BTreeMap<usize, (usize, usize)>,
+    to: &std::collections::BTreeMap<usize, (usize, usize)>,
+) -> Vec<Vec<usize>> {
+    let standing: std::collections::BTreeMap<(usize, usize), usize> = from.iter().map(|(&b, &c)| (c, b)).collect();
+    // The block on `b`'s goal cell at the start, if it must move too.
+    let next = |b: usize| standing.get(&to[&b]).copied().filter(|&n| n != b && from[&n] != to[&n]);
+    let mut seen = std::collections::BTreeSet::new();
+    let mut cycles = Vec::new();
+    for &b in to.keys() {
+        if seen.contains(&b) || from[&b] == to[&b] {
+            continue;
         }
-        cycles
+        // Follow the chain from b until it ends or meets a block seen before.
+        let mut chain = vec![b];
+        seen.insert(b);
+        while let Some(n) = next(*chain.last().expect("not empty")) {
+            if let Some(at) = chain.iter().position(|&c| c == n) {
+                cycles.push(chain[at..].to_vec());
+                break;
+            }
+            if !seen.insert(n) {
+                break;
+            }
+            chain.push(n);
+        }
     }
+    cycles
+}
 
+impl Rung {
+    /// The problem's name, e.g. `build_b08_a3_s1`.
     pub fn name(&self) -> String {
         format!("{}_b{:02}_a{}_s{}", self.family.name(), self.blocks, self.arms, self.seed)
     }
@@ -447,7 +447,7 @@ impl Rung {
             // for), so it stops on a third cell first: at least the least such stop adds.
             let mut aside = 0;
             let cells = self.cells();
-            for cycle in self.grid_cycles(&from, &to) {
+            for cycle in grid_cycles(&from, &to) {
                 let mut least_extra = i64::MAX;
                 for &b in &cycle {
                     let (start, target) = (from[&b], to[&b]);

@@ -595,13 +595,8 @@ impl Bounds {
             return self.value[i];
         }
         // (Most steps asked about can be placed next: their predecessors are all placed.)
-        let preds = &problem.preds[i];
-        if preds.iter().all(|&(p, _)| time[p].is_some()) {
-            let bound =
-                preds.iter().fold(placed.now, |acc, &(p, separation)| acc.max(time[p].expect("placed") + separation));
-            self.value[i] = bound;
-            self.stamp[i] = epoch;
-            return bound;
+        if problem.preds[i].iter().all(|&(p, _)| time[p].is_some()) {
+            return self.ready(problem, placed, i);
         }
         self.stack.push(i);
         while let Some(&s) = self.stack.last() {

@@ -917,7 +917,7 @@ impl Session {
                 tie_seed: Some(seed),
                 timeout,
                 max_states: states,
-                thorough: true,
+                thorough: settings.thorough(),
                 ..settings.clone()
             };
             let searched = self.search(problem, &again, progress);
