@@ -538,9 +538,10 @@ impl Grid {
 
 #[test]
 fn the_grid_bound_never_exceeds_the_optimum() {
-    // The grid rungs of six blocks, seeds 1-8 (all optimum = bound when written). Their bound counts each block's move and,
-    // for each cycle of blocks that must take each other's cells, the least stop one of them
-    // makes on a third cell (grid_b06_a2_s6: 4 without it, 5 with it; the optimum is 5).
+    // The grid rungs of six blocks, seeds 1-8 (all optimum = bound when written). Their bound
+    // counts each block's move and, for each cycle of blocks that must take each other's
+    // cells, the least stop one of them makes on a third cell (grid_b06_a2_s6: 4 without it,
+    // 5 with it; the optimum is 5).
     // Seeds 4 and 7 take the reference 11 and 2 s in a release build (the others 0.6 s at
     // most): they run with `KBC_OPTIMUM_BLOCKS=6`, as the larger rungs above do.
     let all = std::env::var("KBC_OPTIMUM_BLOCKS").ok().and_then(|v| v.parse::<usize>().ok()).is_some_and(|n| n >= 6);

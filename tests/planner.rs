@@ -1367,8 +1367,8 @@ counter :- go([count(0)], [count(6)]).
     assert_eq!(again.plans[0].steps.len(), 12);
 }
 
-/// The names of the actions applicable in `state`, as `base(args)` with their arguments'
-/// values, sorted.
+/// The actions applicable in `state`, each as `base(V)` with the value of its schema's first
+/// variable, sorted.
 fn applicable_names(
     frontend: &Frontend,
     task: &mut kbc::ir::task::Task,
@@ -1396,7 +1396,7 @@ fn a_running_start_and_a_start_the_goal_forbids_do_not_apply() {
     // literal that unifies with a goal literal rules the action out. The generator checks the
     // first by looking up a running constant (never interning one per candidate) and the
     // second against only the goal literals that may unify (found once per schema): both must
-    // keep their meaning, with goal literals of the same name and arity, of another arity,
+    // keep their meaning, with goal literals of the forbidden one's name and of other names,
     // and with a variable among them.
     let source = "spot(a). spot(b). spot(c).
 action(beep_start(S), [], [], [], [spot(S)], [add(beeping(S))]).

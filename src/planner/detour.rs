@@ -892,9 +892,9 @@ pub fn shortcuts(
 /// `plan` with each of `shortcuts` taken, the inverse of a [`detour`](rewrite) in time: the
 /// first job's steps are left out, so the thing stays where it was, and the second job takes
 /// it from there, its start named with the first start's source in place of the place it no
-/// longer visits and its end the one that start's running instance takes (the block waits on its cell and goes straight to its next
-/// place later: one grip, move and release fewer, and the first job's unit free for other
-/// work). A second job that would take the thing back to where it already stands is left
+/// longer visits and its end the one that start's running instance takes (the block waits on
+/// its cell and goes straight to its next place later: one grip, move and release fewer, and
+/// the first job's unit free for other work). A second job that would take the thing back to where it already stands is left
 /// out too. Shortcuts must not share a job.
 ///
 /// Every step comes from the actions applicable in the state reached, so the result is a
