@@ -44,6 +44,17 @@ pub(super) struct RecordedAction {
 
 const NONE: u32 = u32::MAX;
 
+/// What an action has gathered of its preconditions in an evaluation: the sum of the costs of
+/// those settled (its h_add cost, less its weight, once all are), and how many are not yet.
+/// Kept side by side, so that the evaluation's loop reads and writes one cache line per action
+/// it visits, not two (the stores of separate arrays were most of its time on a 55,000-action
+/// task).
+#[derive(Clone, Copy, Debug)]
+struct Counter {
+    cost: u32,
+    left: u32,
+}
+
 /// Where an auxiliary node's achiever reads from: a view tuple, or another auxiliary node.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Source {
@@ -134,8 +145,10 @@ pub(super) struct GroundTask {
     pub(super) cost: Vec<u32>,
     done: Vec<bool>,
     supporter: Vec<u32>,
-    remaining: Vec<u32>,
-    action_cost: Vec<u32>,
+    /// Per action, what it has gathered of its preconditions (see [`Counter`]), and what it
+    /// starts each evaluation with.
+    counters: Vec<Counter>,
+    fresh: Vec<Counter>,
     queue: BucketQueue,
     unreached: Vec<usize>,
     /// Whether evaluations fill in [`Estimate::plan`].
@@ -341,8 +354,8 @@ impl GroundTask {
             cost: vec![u32::MAX; nodes],
             done: vec![false; nodes],
             supporter: vec![NONE; nodes],
-            remaining: Vec::new(),
-            action_cost: Vec::new(),
+            counters: Vec::new(),
+            fresh: Vec::new(),
             queue: BucketQueue::default(),
             unreached: Vec::new(),
             keep_plan: false,
@@ -431,8 +444,8 @@ impl GroundTask {
         let (goals_of_start, goals_of) = csr(nodes, goal_pairs.into_iter());
         task.goals_of_start = goals_of_start;
         task.goals_of = goals_of;
-        task.remaining = (0..count).map(|a| task.pre_start[a + 1] - task.pre_start[a]).collect();
-        task.action_cost = vec![0; count];
+        task.fresh = (0..count).map(|a| Counter { cost: 0, left: task.pre_start[a + 1] - task.pre_start[a] }).collect();
+        task.counters = task.fresh.clone();
         task.offsets = offsets;
         task
     }
@@ -457,10 +470,7 @@ impl GroundTask {
         self.done.fill(false);
         self.supporter.fill(NONE);
         self.queue.clear();
-        self.action_cost.fill(0);
-        for a in 0..self.schema.len() {
-            self.remaining[a] = self.pre_start[a + 1] - self.pre_start[a];
-        }
+        self.counters.copy_from_slice(&self.fresh);
         for &(view, t) in start {
             let fact = self.offsets[view as usize] + t;
             self.present[fact as usize] = true;
@@ -487,8 +497,8 @@ impl GroundTask {
         let mut remaining_goals = goals;
         let mut h_add = 0u32;
         // The loop below is most of the search's time on large tasks: it works on the fields
-        // borrowed apart, so the slices stay in registers and their bounds are checked once
-        // per range rather than reloaded after every write.
+        // borrowed apart as slices, so that their addresses and lengths stay in registers
+        // rather than being read again from the task after every write.
         let GroundTask {
             users_start,
             users,
@@ -500,11 +510,14 @@ impl GroundTask {
             cost: costs,
             done,
             supporter,
-            remaining,
-            action_cost,
+            counters,
             queue,
             ..
         } = self;
+        let (users_start, users, add_start, add, weight) =
+            (&users_start[..], &users[..], &add_start[..], &add[..], &weight[..]);
+        let (goals_of_start, goals_of) = (&goals_of_start[..], &goals_of[..]);
+        let (costs, done, supporter, counters) = (&mut costs[..], &mut done[..], &mut supporter[..], &mut counters[..]);
         while remaining_goals > 0 {
             let Some((cost, fact)) = queue.pop() else { break };
             let f = fact as usize;
@@ -525,10 +538,11 @@ impl GroundTask {
             }
             for &a in &users[users_start[f] as usize..users_start[f + 1] as usize] {
                 let a = a as usize;
-                action_cost[a] = action_cost[a].saturating_add(cost);
-                remaining[a] -= 1;
-                if remaining[a] == 0 {
-                    let fired = action_cost[a].saturating_add(weight[a]);
+                let counter = &mut counters[a];
+                counter.cost = counter.cost.saturating_add(cost);
+                counter.left -= 1;
+                if counter.left == 0 {
+                    let fired = counter.cost.saturating_add(weight[a]);
                     for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
                         relax(costs, done, supporter, queue, added, fired, a as u32);
                     }
@@ -615,8 +629,8 @@ impl GroundTask {
                 }
             }
             let key = |a: usize| match group.get(&a) {
-                Some(g) => (first[g], *g, due[&a], self.action_cost[a]),
-                None => (due[&a], 0, due[&a], self.action_cost[a]),
+                Some(g) => (first[g], *g, due[&a], self.counters[a].cost),
+                None => (due[&a], 0, due[&a], self.counters[a].cost),
             };
             let mut ordered: Vec<((usize, u32), bool)> = plan.drain(..).zip(flags).collect();
             // (A stable sort: equal keys stay in the order the plan chose them.)
@@ -695,7 +709,7 @@ impl GroundTask {
         // passes its due to the actions that support its preconditions, and a deleting part
         // to its adding part (twice, for the zero-cost links between actions of equal cost).
         let mut order: Vec<usize> = picked.to_vec();
-        order.sort_by_key(|&b| std::cmp::Reverse(self.action_cost[b]));
+        order.sort_by_key(|&b| std::cmp::Reverse(self.counters[b].cost));
         for _ in 0..2 {
             for &b in &order {
                 let at = due[&b];
