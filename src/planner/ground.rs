@@ -55,6 +55,74 @@ struct Counter {
     left: u32,
 }
 
+/// Counts a settled precondition of cost `cost` in: whether it was the last one.
+#[inline]
+fn count_in(counter: &mut Counter, cost: u32) -> bool {
+    counter.cost = counter.cost.saturating_add(cost);
+    counter.left -= 1;
+    counter.left == 0
+}
+
+/// Marks an entry of [`GroundTask::triggers`] as a group's (the rest of it is the group's number).
+const GROUP: u32 = 1 << 31;
+
+/// The least number of preconditions a group shares (see [`Groups`]).
+const GROUP_PREFIX: u32 = 2;
+
+/// Runs of consecutive actions whose first preconditions (in each action's sorted list) are
+/// the same: the grounding records a rule's instantiations one after another, so the moves of
+/// one block by one arm to every free cell share the preconditions that name the arm, the
+/// block and where it stands, and differ in those that name the destination. The evaluation
+/// counts such a shared prefix once for the group, and when the group has all of it, passes
+/// its cost on to each action of the run in order: the same costs, the same actions firing in
+/// the same order as when each action counted the prefix itself, for fewer visits. A
+/// 20-crate, 3-robot warehouse KB (a robot drives to a crate and carries it to any of 30
+/// spots): 54,768 actions with 266,598 preconditions in all, read as 115,398 entries (1,800
+/// groups of 29 carries); `kbc plan --schedule` 2.35 -> 1.96 s, the same plan. The ladder's
+/// blocks rungs have few groups (a move split at an exclusion has one or two preconditions),
+/// and the same times.
+#[derive(Clone, Debug, Default)]
+struct Groups {
+    /// Per group, its actions: `first..end`.
+    actions: Vec<(u32, u32)>,
+    /// Per group, what it starts each evaluation with (the length of its prefix left), and
+    /// what it has gathered.
+    fresh: Vec<Counter>,
+    counters: Vec<Counter>,
+}
+
+impl Groups {
+    /// The groups of the actions whose preconditions are `pre` (CSR layout, each sorted), and
+    /// per action the length of the prefix its group counts for it (0 outside a group). A run
+    /// starts where two actions share [`GROUP_PREFIX`] preconditions or more, and takes the
+    /// actions after them while they share as many with the one before.
+    fn find(pre_start: &[u32], pre: &[u32]) -> (Groups, Vec<u32>) {
+        let count = pre_start.len() - 1;
+        let list = |a: usize| &pre[pre_start[a] as usize..pre_start[a + 1] as usize];
+        let common = |a: usize| list(a).iter().zip(list(a + 1)).take_while(|(x, y)| x == y).count() as u32;
+        let mut groups = Groups::default();
+        let mut prefix = vec![0u32; count];
+        let mut a = 0;
+        while a + 1 < count {
+            let shared = common(a);
+            if shared < GROUP_PREFIX {
+                a += 1;
+                continue;
+            }
+            let mut end = a + 2;
+            while end < count && common(end - 1) >= shared {
+                end += 1;
+            }
+            prefix[a..end].fill(shared);
+            groups.actions.push((a as u32, end as u32));
+            groups.fresh.push(Counter { cost: 0, left: shared });
+            a = end;
+        }
+        groups.counters = groups.fresh.clone();
+        (groups, prefix)
+    }
+}
+
 /// Where an auxiliary node's achiever reads from: a view tuple, or another auxiliary node.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Source {
@@ -116,9 +184,12 @@ pub(super) struct GroundTask {
     pub(super) pre: Vec<u32>,
     pub(super) add_start: Vec<u32>,
     pub(super) add: Vec<u32>,
-    /// Facts to the actions that have them as a precondition (CSR layout).
-    pub(super) users_start: Vec<u32>,
-    pub(super) users: Vec<u32>,
+    /// Facts to what the evaluation visits when they settle (CSR layout): the actions that
+    /// have them as a precondition, each shared prefix of preconditions counted once for its
+    /// group (an entry with [`GROUP`] set, see [`Groups`]).
+    triggers_start: Vec<u32>,
+    triggers: Vec<u32>,
+    groups: Groups,
     /// Actions without preconditions.
     pub(super) unconditional: Vec<u32>,
     /// Negation nodes: (the fact node whose absence or deletion they stand for, their node).
@@ -337,8 +408,9 @@ impl GroundTask {
             pre: Vec::new(),
             add_start: vec![0],
             add: Vec::new(),
-            users_start: Vec::new(),
-            users: Vec::new(),
+            triggers_start: Vec::new(),
+            triggers: Vec::new(),
+            groups: Groups::default(),
             unconditional: Vec::new(),
             negations,
             nodes,
@@ -426,15 +498,31 @@ impl GroundTask {
         let (deleters_start, deleters) = csr(facts, deleting.into_iter());
         task.deleters_start = deleters_start;
         task.deleters = deleters;
-        let pairs: Vec<(u32, u32)> = (0..count)
-            .flat_map(|a| {
-                let range = task.pre_start[a] as usize..task.pre_start[a + 1] as usize;
-                task.pre[range].iter().map(move |&f| (f, a as u32))
+        let (groups, prefix) = Groups::find(&task.pre_start, &task.pre);
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(task.pre.len());
+        for (g, &(first, _)) in groups.actions.iter().enumerate() {
+            let pre = &task.pre[task.pre_start[first as usize] as usize..];
+            pairs.extend(pre[..groups.fresh[g].left as usize].iter().map(|&f| (f, GROUP | g as u32)));
+        }
+        for (a, &shared) in prefix.iter().enumerate() {
+            let range = (task.pre_start[a] + shared) as usize..task.pre_start[a + 1] as usize;
+            pairs.extend(task.pre[range].iter().map(|&f| (f, a as u32)));
+        }
+        // Each fact's entries in the order of the actions they stand for (a group's at its
+        // first action's place), as the evaluation visited every action before the groups.
+        let first = |entry: u32| if entry & GROUP != 0 { groups.actions[(entry & !GROUP) as usize].0 } else { entry };
+        pairs.sort_by_key(|&(f, entry)| (f, first(entry)));
+        let (triggers_start, triggers) = csr(nodes, pairs.into_iter());
+        task.triggers_start = triggers_start;
+        task.triggers = triggers;
+        task.fresh = (0..count)
+            .map(|a| {
+                let own = task.pre_start[a + 1] - task.pre_start[a] - prefix[a];
+                Counter { cost: 0, left: own + u32::from(prefix[a] > 0) }
             })
             .collect();
-        let (users_start, users) = csr(nodes, pairs.into_iter());
-        task.users_start = users_start;
-        task.users = users;
+        task.counters = task.fresh.clone();
+        task.groups = groups;
         let goal_pairs: Vec<(u32, u32)> = task
             .goal_options
             .iter()
@@ -444,10 +532,17 @@ impl GroundTask {
         let (goals_of_start, goals_of) = csr(nodes, goal_pairs.into_iter());
         task.goals_of_start = goals_of_start;
         task.goals_of = goals_of;
-        task.fresh = (0..count).map(|a| Counter { cost: 0, left: task.pre_start[a + 1] - task.pre_start[a] }).collect();
-        task.counters = task.fresh.clone();
         task.offsets = offsets;
         task
+    }
+
+    /// Each node's readers: the actions that have it as a precondition, in order (CSR layout).
+    pub(super) fn readers(&self) -> (Vec<u32>, Vec<u32>) {
+        let pairs = (0..self.schema.len()).flat_map(|a| {
+            let range = self.pre_start[a] as usize..self.pre_start[a + 1] as usize;
+            self.pre[range].iter().map(move |&f| (f, a as u32))
+        });
+        csr(self.nodes, pairs)
     }
 
     /// The number of ground actions (without the conjunctions for Invalid literals).
@@ -471,6 +566,7 @@ impl GroundTask {
         self.supporter.fill(NONE);
         self.queue.clear();
         self.counters.copy_from_slice(&self.fresh);
+        self.groups.counters.copy_from_slice(&self.groups.fresh);
         for &(view, t) in start {
             let fact = self.offsets[view as usize] + t;
             self.present[fact as usize] = true;
@@ -500,8 +596,9 @@ impl GroundTask {
         // borrowed apart as slices, so that their addresses and lengths stay in registers
         // rather than being read again from the task after every write.
         let GroundTask {
-            users_start,
-            users,
+            triggers_start,
+            triggers,
+            groups,
             add_start,
             add,
             weight,
@@ -514,8 +611,9 @@ impl GroundTask {
             queue,
             ..
         } = self;
-        let (users_start, users, add_start, add, weight) =
-            (&users_start[..], &users[..], &add_start[..], &add[..], &weight[..]);
+        let (triggers_start, triggers, add_start, add, weight) =
+            (&triggers_start[..], &triggers[..], &add_start[..], &add[..], &weight[..]);
+        let (group_actions, group_counters) = (&groups.actions[..], &mut groups.counters[..]);
         let (goals_of_start, goals_of) = (&goals_of_start[..], &goals_of[..]);
         let (costs, done, supporter, counters) = (&mut costs[..], &mut done[..], &mut supporter[..], &mut counters[..]);
         while remaining_goals > 0 {
@@ -536,15 +634,28 @@ impl GroundTask {
             if remaining_goals == 0 {
                 break;
             }
-            for &a in &users[users_start[f] as usize..users_start[f + 1] as usize] {
-                let a = a as usize;
-                let counter = &mut counters[a];
-                counter.cost = counter.cost.saturating_add(cost);
-                counter.left -= 1;
-                if counter.left == 0 {
-                    let fired = counter.cost.saturating_add(weight[a]);
-                    for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
-                        relax(costs, done, supporter, queue, added, fired, a as u32);
+            for &entry in &triggers[triggers_start[f] as usize..triggers_start[f + 1] as usize] {
+                if entry & GROUP == 0 {
+                    let a = entry as usize;
+                    if count_in(&mut counters[a], cost) {
+                        let fired = counters[a].cost.saturating_add(weight[a]);
+                        for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
+                            relax(costs, done, supporter, queue, added, fired, a as u32);
+                        }
+                    }
+                    continue;
+                }
+                let g = (entry & !GROUP) as usize;
+                if !count_in(&mut group_counters[g], cost) {
+                    continue;
+                }
+                let (shared, (first, end)) = (group_counters[g].cost, group_actions[g]);
+                for a in first as usize..end as usize {
+                    if count_in(&mut counters[a], shared) {
+                        let fired = counters[a].cost.saturating_add(weight[a]);
+                        for &added in &add[add_start[a] as usize..add_start[a + 1] as usize] {
+                            relax(costs, done, supporter, queue, added, fired, a as u32);
+                        }
                     }
                 }
             }
@@ -870,7 +981,112 @@ mod tests {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
 
-    use super::BucketQueue;
+    use super::{Auxiliary, BucketQueue, GroundTask, NONE, RecordedAction};
+
+    /// An evaluation through groups of actions that share their first preconditions gives
+    /// every node the cost and the supporter that the plain generalised Dijkstra gives it,
+    /// written here apart (a binary heap, each action counting each of its preconditions),
+    /// on random tasks whose actions come in runs with shared prefixes (some of them
+    /// interleaved with other preconditions once sorted) and with weights 0 and 1.
+    #[test]
+    fn grouped_preconditions_give_the_costs_and_supporters_of_the_plain_evaluation() {
+        let mut random = kbvm::rng::Rng::new(11);
+        let mut grouped = 0;
+        for _ in 0..300 {
+            let facts = 8 + random.below(30);
+            let fact = |random: &mut kbvm::rng::Rng| (0u32, random.below(facts) as u32);
+            let mut actions = Vec::new();
+            for rule in 0..1 + random.below(4) {
+                for _ in 0..1 + random.below(4) {
+                    let shared: Vec<(u32, u32)> = (0..random.below(4)).map(|_| fact(&mut random)).collect();
+                    for _ in 0..1 + random.below(6) {
+                        let mut pre = shared.clone();
+                        pre.extend((0..random.below(3)).map(|_| fact(&mut random)));
+                        let add = (0..1 + random.below(2)).map(|_| fact(&mut random)).collect();
+                        actions.push(RecordedAction {
+                            rule: rule as u32,
+                            bindings: Box::new([]),
+                            key: None,
+                            pre,
+                            exclusion: None,
+                            pair: None,
+                            add,
+                            invalid: Vec::new(),
+                            deletes: Vec::new(),
+                        });
+                    }
+                }
+            }
+            let schemas: Vec<u32> = (0..4).collect();
+            // A goal nothing adds: the evaluation runs until the queue is empty.
+            let unreachable = facts as u32;
+            let mut task =
+                GroundTask::new(&[facts + 1], actions, &schemas, &[vec![(0, unreachable)]], None, Auxiliary::default());
+            grouped += task.groups.actions.len();
+            for a in 0..task.weight.len() {
+                task.weight[a] = random.below(2) as u32;
+            }
+            let start: Vec<(u32, u32)> = (0..random.below(4)).map(|_| fact(&mut random)).collect();
+            let _ = task.evaluate(&start, false);
+            // The reference, over each action's whole list of preconditions.
+            let nodes = task.nodes;
+            let (mut cost, mut supporter, mut done) = (vec![u32::MAX; nodes], vec![NONE; nodes], vec![false; nodes]);
+            let mut heap = BinaryHeap::new();
+            let offer = |heap: &mut BinaryHeap<Reverse<(u32, u32)>>,
+                         cost: &mut Vec<u32>,
+                         supporter: &mut Vec<u32>,
+                         done: &[bool],
+                         f: u32,
+                         c: u32,
+                         by: u32| {
+                if !done[f as usize] && c < cost[f as usize] {
+                    cost[f as usize] = c;
+                    supporter[f as usize] = by;
+                    heap.push(Reverse((c, f)));
+                }
+            };
+            for &(_, t) in &start {
+                offer(&mut heap, &mut cost, &mut supporter, &done, t, 0, NONE);
+            }
+            let actions = task.weight.len();
+            let list = |a: usize| &task.pre[task.pre_start[a] as usize..task.pre_start[a + 1] as usize];
+            let adds = |a: usize| &task.add[task.add_start[a] as usize..task.add_start[a + 1] as usize];
+            for a in (0..actions).filter(|&a| list(a).is_empty()) {
+                for &f in adds(a) {
+                    offer(&mut heap, &mut cost, &mut supporter, &done, f, task.weight[a], a as u32);
+                }
+            }
+            let mut gathered = vec![0u32; actions];
+            let mut left: Vec<usize> = (0..actions).map(|a| list(a).len()).collect();
+            while let Some(Reverse((c, f))) = heap.pop() {
+                if done[f as usize] || c > cost[f as usize] {
+                    continue;
+                }
+                done[f as usize] = true;
+                for a in (0..actions).filter(|&a| list(a).contains(&f)) {
+                    gathered[a] += c;
+                    left[a] -= 1;
+                    if left[a] == 0 {
+                        for &added in adds(a) {
+                            offer(
+                                &mut heap,
+                                &mut cost,
+                                &mut supporter,
+                                &done,
+                                added,
+                                gathered[a] + task.weight[a],
+                                a as u32,
+                            );
+                        }
+                    }
+                }
+            }
+            assert_eq!(task.cost, cost);
+            assert_eq!(task.supporter, supporter);
+        }
+        // (The tasks had groups to go through.)
+        assert!(grouped > 300, "{grouped} groups");
+    }
 
     /// The bucket queue pops exactly what one binary heap of `(cost, fact)` pops, for pushes
     /// that never fall below the last cost popped (as the evaluation's are), costs past the

@@ -95,6 +95,7 @@ impl Landmarks {
         let nodes = ground.nodes;
         let initially: Vec<bool> = (0..nodes).map(|n| ground.cost[n] == 0).collect();
         let actions = ground.weight.len();
+        let (readers_start, readers) = ground.readers();
         let mut lm: Vec<Option<Vec<u32>>> = (0..nodes).map(|n| initially[n].then(|| vec![n as u32])).collect();
         let mut waiting: Vec<u32> = (0..actions)
             .map(|a| {
@@ -140,8 +141,8 @@ impl Landmarks {
                     continue;
                 }
                 lm[f as usize] = Some(candidate);
-                for u in ground.users_start[f as usize]..ground.users_start[f as usize + 1] {
-                    let user = ground.users[u as usize] as usize;
+                for u in readers_start[f as usize]..readers_start[f as usize + 1] {
+                    let user = readers[u as usize] as usize;
                     if first {
                         waiting[user] -= 1;
                     }
