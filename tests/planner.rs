@@ -13,7 +13,7 @@ use kbc::ladder::{self, Family, Rung};
 use kbc::passes;
 use kbc::planner::relaxed::Relaxation;
 use kbc::planner::successors::{self, Successors};
-use kbc::planner::{self, Budget, Lookahead, Options, SearchKind, Silent};
+use kbc::planner::{self, Budget, Guide, Lookahead, Options, SearchKind, Silent};
 use kbc::session::{Frontend, PlanSettings};
 use kbc::validate::{self, PlanStep};
 
@@ -1440,4 +1440,80 @@ t2 :- go([], [beeped(a), poked(_, 1)]).
     assert_eq!(running.iter().filter(|n| *n == "beep(b)").count(), 1, "{running:?}");
     // t2: poked(_, 1) unifies with every poke_start's poked(S, _).
     assert_eq!(names_of(1, &[]), ["beep(a)", "beep(b)", "beep(c)"]);
+}
+
+/// A warehouse in another author's style: robots drive to a crate, then carry it to a spot no
+/// crate stands on or heads for; `crates` crates on a grid of `width` x `height` spots, each
+/// crate's goal the start spot of the crate `shift` after it (the last ones' goals free spots).
+fn warehouse(crates: usize, robots: usize, (width, height): (usize, usize), shift: usize) -> Frontend {
+    let spots: Vec<(usize, usize)> = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).collect();
+    let list = |values: std::ops::Range<usize>| values.map(|v| v.to_string()).collect::<Vec<_>>().join(", ");
+    let mut init: Vec<String> = (1..=robots).map(|r| format!("idle(r{r})")).collect();
+    init.extend((1..=robots).map(|r| {
+        let (x, y) = spots[spots.len() - r];
+        format!("robot_at(r{r}, {x}, {y})")
+    }));
+    let mut goal = Vec::new();
+    for c in 0..crates {
+        let (x, y) = spots[c];
+        init.push(format!("crate_at(c{c}, {x}, {y})"));
+        let (gx, gy) = spots[c + shift];
+        goal.push(format!("crate_at(c{c}, {gx}, {gy})"));
+    }
+    let source = format!(
+        "{robots_facts}
+spot(X, Y) :- member(X, [{xs}]), member(Y, [{ys}]).
+action(drive_start(R, X1, Y1, X2, Y2), [idle(R), robot_at(R, X1, Y1)], [], [],
+    [spot(X2, Y2), (X1 \\== X2 ; Y1 \\== Y2)], [del(idle(R)), del(robot_at(R, X1, Y1))]).
+action(drive_end(R, _X1, _Y1, X2, Y2), [], [], [], [], [add(robot_at(R, X2, Y2)), add(idle(R))]).
+action(carry_start(R, C, X1, Y1, X2, Y2),
+    [idle(R), robot_at(R, X1, Y1), crate_at(C, X1, Y1)],
+    [crate_at(_, X2, Y2), heading(_, X2, Y2)], [],
+    [spot(X2, Y2), (X1 \\== X2 ; Y1 \\== Y2)],
+    [del(idle(R)), del(robot_at(R, X1, Y1)), del(crate_at(C, X1, Y1)), add(heading(C, X2, Y2))]).
+action(carry_end(R, C, _X1, _Y1, X2, Y2), [heading(C, X2, Y2)], [], [], [],
+    [del(heading(C, X2, Y2)), add(crate_at(C, X2, Y2)), add(robot_at(R, X2, Y2)), add(idle(R))]).
+duration(drive(_, X1, Y1, X2, Y2), D, inf) :- D is abs(X1 - X2) + abs(Y1 - Y2).
+duration(carry(_, _, X1, Y1, X2, Y2), D, M) :- D is abs(X1 - X2) + abs(Y1 - Y2) + 1, M is 3 * D.
+shuffle :- go([{init}], [{goal}]).
+",
+        robots_facts = (1..=robots).map(|r| format!("robot(r{r}).")).collect::<Vec<_>>().join(" "),
+        xs = list(0..width),
+        ys = list(0..height),
+        init = init.join(", "),
+        goal = goal.join(", "),
+    );
+    from_text("warehouse.pl", source)
+}
+
+#[test]
+fn a_search_that_stalls_on_h_ff_starts_over_ranked_by_h_add() {
+    // A small warehouse; a stall of a few expansions is enough to turn the search to h_add
+    // here (by default it takes `Options::STALLED_STATES`, which no rung of the ladder reaches).
+    let frontend = warehouse(6, 2, (4, 3), 2);
+    let run = |guide: Guide, stalled_states: u64| {
+        let mut task = passes::task::build(&frontend.kb, 0);
+        let options = Options { budget: budget(60), guide, stalled_states, ..Options::default() };
+        let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+        let plan = outcome.result.unwrap_or_else(|failure| panic!("{guide:?}, {stalled_states}: no plan: {failure:?}"));
+        assert_valid(&frontend, 0, &plan);
+        outcome.stats
+    };
+    let plain = run(Guide::Auto, u64::MAX);
+    assert_eq!(plain.summed_from, None);
+    let summed = run(Guide::Sum, u64::MAX);
+    assert_eq!(summed.summed_from, Some(0));
+    let stalled = run(Guide::Auto, 3);
+    let from = stalled.summed_from.expect("the search turned to h_add");
+    assert!(from >= 3, "it turned after {from} expansions");
+    // After turning, it searched as one ranked by h_add from the start would (the same
+    // states, counted after the ones before).
+    assert_eq!(stalled.expanded - from, summed.expanded);
+    // A search that finds its plan sooner never turns (build_b10_a4_s1: 141 expansions).
+    let small = Rung { family: Family::Build, blocks: 10, arms: 4, seed: 1 };
+    let frontend = from_text("rung.pl", small.source());
+    let mut task = passes::task::build(&frontend.kb, 0);
+    let options = Options { budget: budget(60), ..Options::default() };
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    assert_eq!(outcome.stats.summed_from, None);
 }

@@ -123,11 +123,11 @@ use hashbrown::HashTable;
 use rustc_hash::FxBuildHasher;
 
 use super::landmarks::Accepted;
-use super::relaxed::{Helpful, PlanAction, Relaxation};
+use super::relaxed::{Estimate, Helpful, PlanAction, Relaxation};
 use super::successors::{self, Applicable, ConditionError, Successors};
 use super::symmetry::Symmetry;
 use super::timing::{Durations, Placement, Timeline};
-use super::{Budget, Failure, Lookahead, Outcome, Progress, Score, Stats, over_budget, plan_from};
+use super::{Budget, Failure, Guide, Lookahead, Outcome, Progress, Score, Stats, over_budget, plan_from};
 use crate::ir::hir::{EffectKind, Snap};
 use crate::ir::plan::Plan;
 use crate::ir::task::{ConstId, Pattern, State, Task};
@@ -645,10 +645,16 @@ pub fn search(
     temporal: bool,
     epsilon: i64,
     tie_seed: Option<u64>,
+    (guide, stalled_states): (Guide, u64),
     mut scorer: Option<&mut dyn Score>,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
+    // Whether states are ranked by h_add rather than h_FF (see [`Guide`]).
+    let mut summed = guide == Guide::Sum;
+    if summed {
+        stats.summed_from = Some(0);
+    }
     let begun = Instant::now();
     // Decided at the initial state's estimate (relaxed plans are kept until then).
     let mut lookahead = mode != Lookahead::Off;
@@ -689,8 +695,11 @@ pub fn search(
     let mut ends_scratch = Vec::new();
     let mut restart = false;
     let resource_goals = resource_goals(task);
-    // The lowest estimate of any state evaluated so far.
+    // The lowest estimate of any state evaluated so far, and the expansions when it was found.
     let mut best_h = u32::MAX;
+    let mut best_h_at = 0u64;
+    // The expansions before the search started over ranked by h_add (0 if it did not).
+    let mut begun_at = 0u64;
     // Loosened lookahead chains not taken in a row (see [`LOOSENED_MISSES`]).
     let mut loosened_misses = 0;
     loop {
@@ -776,23 +785,39 @@ pub fn search(
         let (accepted, h_lm) = landmarks.unwrap_or_default();
         bytes += accepted.len() * 8;
         nodes[id as usize].accepted = Some(accepted);
-        let Some(h_ff) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
-        let progressed = h_lm + h_ff < best_h;
+        // (`h` is h_FF or h_add, see [`Guide`].)
+        let Some(h) = guided(&estimate, summed) else { continue }; // a dead end: some goal is unreachable
+        let progressed = h_lm + h < best_h;
         if !std::mem::replace(&mut decided, true) {
-            lookahead = mode.wanted(h_lm + h_ff);
+            lookahead = mode.wanted(h_lm + h);
             stats.lookahead = lookahead;
             relaxation.keep_relaxed_plans(lookahead);
         }
         // A plain search that has not found a plan in so many expansions is on a plateau
         // the lookahead gets off: on from here. (This state's estimate has no relaxed plan
         // kept; the lookahead follows those of the better states evaluated from now on.)
-        if !lookahead && best.is_none() && mode.switches_on(stats.expanded) {
+        if !lookahead && best.is_none() && mode.switches_on(stats.expanded - begun_at) {
             lookahead = true;
             stats.lookahead = true;
-            stats.lookahead_from = stats.expanded;
+            stats.lookahead_from = stats.expanded - begun_at;
             relaxation.keep_relaxed_plans(true);
         }
-        best_h = best_h.min(h_lm + h_ff);
+        if progressed {
+            (best_h, best_h_at) = (h_lm + h, stats.expanded);
+        }
+        // A search that has found no plan and no better estimate in so many expansions
+        // wanders on h_FF's plateaus: it starts again from the initial state, ranked by h_add.
+        if !summed && guide == Guide::Auto && best.is_none() && stats.expanded - best_h_at >= stalled_states {
+            summed = true;
+            stats.summed_from = Some(stats.expanded);
+            bytes = start_over(&mut nodes, &mut placed, &mut seen, (&mut regular, &mut preferred));
+            (best_h, best_h_at, begun_at) = (u32::MAX, stats.expanded, stats.expanded);
+            // (The lookahead is decided again, as at the start: it had been on the plateau.)
+            (lookahead, decided) = (mode != Lookahead::Off, false);
+            (stats.lookahead, stats.lookahead_from) = (false, 0);
+            relaxation.keep_relaxed_plans(lookahead);
+            continue;
+        }
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {
             return Outcome::ended(found, Failure::Condition(error), stats);
         }
@@ -883,7 +908,7 @@ pub fn search(
                     node.depth = depth;
                     node.makespan = makespan;
                     node.accepted = None;
-                    regular.push(Reverse((h_lm + h_ff, 0, makespan, h_ff, time, depth, other)));
+                    regular.push(Reverse((h_lm + h, 0, makespan, h, time, depth, other)));
                 }
                 continue;
             }
@@ -923,11 +948,11 @@ pub fn search(
                 }
                 None => (depth, 0),
             };
-            let estimated = h_lm + h_ff + noise;
+            let estimated = h_lm + h + noise;
             let entry = if improving {
-                Reverse((estimated + idles as u32, 0, makespan, h_ff, time, depth_key, child_id))
+                Reverse((estimated + idles as u32, 0, makespan, h, time, depth_key, child_id))
             } else {
-                Reverse((estimated, idles as u32, makespan, h_ff, time, depth_key, child_id))
+                Reverse((estimated, idles as u32, makespan, h, time, depth_key, child_id))
             };
             if helpful {
                 preferred.push(entry);
@@ -975,7 +1000,9 @@ pub fn search(
                         stats.evaluated += 1;
                         relaxation
                             .evaluate_for_search(task, &chain.states[steps - 1], machine, cache, accepted.as_deref())
-                            .map(|(e, landmarks)| e.h_ff.map(|ff| (ff + landmarks.map_or(0, |(_, count)| count), ff)))
+                            .map(|(e, landmarks)| {
+                                guided(&e, summed).map(|g| (g + landmarks.map_or(0, |(_, count)| count), g))
+                            })
                     };
                     // (A loosened chain is taken whole or not at all: its prefixes went where
                     // the search's own states then could not get on, on build_b100_a8.)
@@ -998,10 +1025,10 @@ pub fn search(
                     }
                 };
                 // (A careful chain is taken only if it ends better than where it started.)
-                if let Some((length, h)) = kept
-                    && (!careful || h.0 < h_lm + h_ff)
+                if let Some((length, end)) = kept
+                    && (!careful || end.0 < h_lm + h)
                 {
-                    taken = Some((chain, length, h));
+                    taken = Some((chain, length, end));
                 }
                 if loosen {
                     loosened_misses = if taken.is_some() { 0 } else { loosened_misses + 1 };
@@ -1010,7 +1037,7 @@ pub fn search(
                     plain_dead = true;
                     continue;
                 }
-                if taken.as_ref().is_none_or(|(_, _, (end_h, _))| *end_h < h_lm + h_ff) {
+                if taken.as_ref().is_none_or(|(_, _, (end_h, _))| *end_h < h_lm + h) {
                     break;
                 }
             }
@@ -1058,18 +1085,35 @@ pub fn search(
             // The first plan is found: search again from the start with its makespan as the
             // bound and starts that would idle their arm ranked last, instead of going on
             // from open lists ordered for finding any plan.
-            let root = nodes.swap_remove(0);
-            nodes.clear();
-            placed.clear();
-            nodes.push(Node { accepted: None, ..root });
-            seen.clear();
-            seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);
-            regular.clear();
-            preferred.clear();
-            regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
-            bytes = nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>();
+            bytes = start_over(&mut nodes, &mut placed, &mut seen, (&mut regular, &mut preferred));
         }
     }
+}
+
+/// A state's rank besides its landmark count: h_add when `summed`, else h_FF (see [`Guide`]);
+/// `None` for a dead end.
+fn guided(estimate: &Estimate, summed: bool) -> Option<u32> {
+    if summed { estimate.h_add } else { estimate.h_ff }
+}
+
+/// Empties the search but for its root, which the regular list holds again unexpanded: the
+/// bytes stored then.
+fn start_over(
+    nodes: &mut Vec<Node>,
+    placed: &mut Vec<u32>,
+    seen: &mut HashTable<u32>,
+    (regular, preferred): (&mut BinaryHeap<Entry>, &mut BinaryHeap<Entry>),
+) -> usize {
+    let root = nodes.swap_remove(0);
+    nodes.clear();
+    placed.clear();
+    nodes.push(Node { accepted: None, ..root });
+    seen.clear();
+    seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);
+    regular.clear();
+    preferred.clear();
+    regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
+    nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>()
 }
 
 #[cfg(test)]
