@@ -231,7 +231,6 @@ impl PlanningArgs {
             symmetry: !self.no_symmetry,
             lookahead: self.lookahead.into(),
             tie_seed: None,
-            guide: Default::default(),
             thorough: false,
         }
     }

@@ -123,11 +123,11 @@ use hashbrown::HashTable;
 use rustc_hash::FxBuildHasher;
 
 use super::landmarks::Accepted;
-use super::relaxed::{Estimate, Helpful, PlanAction, Relaxation};
+use super::relaxed::{Helpful, PlanAction, Relaxation};
 use super::successors::{self, Applicable, ConditionError, Successors};
 use super::symmetry::Symmetry;
 use super::timing::{Durations, Placement, Timeline};
-use super::{Budget, Failure, Guide, Lookahead, Outcome, Progress, Score, Stats, over_budget, plan_from};
+use super::{Budget, Failure, Lookahead, Outcome, Progress, Score, Stats, over_budget, plan_from};
 use crate::ir::hir::{EffectKind, Snap};
 use crate::ir::plan::Plan;
 use crate::ir::task::{ConstId, Pattern, State, Task};
@@ -645,16 +645,11 @@ pub fn search(
     temporal: bool,
     epsilon: i64,
     tie_seed: Option<u64>,
-    (guide, stalled_states): (Guide, u64),
+    stalled_states: u64,
     mut scorer: Option<&mut dyn Score>,
     progress: &mut dyn Progress,
 ) -> Outcome {
     let mut stats = Stats::default();
-    // Whether states are ranked by h_add rather than h_FF (see [`Guide`]).
-    let mut summed = guide == Guide::Sum;
-    if summed {
-        stats.summed_from = Some(0);
-    }
     let begun = Instant::now();
     // Decided at the initial state's estimate (relaxed plans are kept until then).
     let mut lookahead = mode != Lookahead::Off;
@@ -698,15 +693,29 @@ pub fn search(
     // The lowest estimate of any state evaluated so far, and the expansions when it was found.
     let mut best_h = u32::MAX;
     let mut best_h_at = 0u64;
-    // The expansions before the search started over ranked by h_add (0 if it did not).
-    let mut begun_at = 0u64;
+    // Once the search has stalled (see [`super::Options::stalled_states`]): the open list
+    // ranked by h_add, and which list's turn it is.
+    let mut sums: Option<BinaryHeap<Entry>> = None;
+    let mut turn = 0u8;
     // Loosened lookahead chains not taken in a row (see [`LOOSENED_MISSES`]).
     let mut loosened_misses = 0;
     loop {
         from_preferred = !from_preferred;
-        let entry = match (from_preferred, preferred.is_empty()) {
-            (true, false) => preferred.pop(),
-            _ => regular.pop().or_else(|| preferred.pop()),
+        let entry = match sums.as_mut() {
+            // The three lists take turns (an empty one passes its turn to the regular list,
+            // which holds every state the others do).
+            Some(sums) => {
+                turn = (turn + 1) % 3;
+                match turn {
+                    0 => preferred.pop().or_else(|| regular.pop()),
+                    1 => regular.pop(),
+                    _ => sums.pop().or_else(|| regular.pop()),
+                }
+            }
+            None => match (from_preferred, preferred.is_empty()) {
+                (true, false) => preferred.pop(),
+                _ => regular.pop().or_else(|| preferred.pop()),
+            },
         };
         let Some(Reverse((_, _, _, _, _, _, id))) = entry else {
             return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
@@ -785,8 +794,7 @@ pub fn search(
         let (accepted, h_lm) = landmarks.unwrap_or_default();
         bytes += accepted.len() * 8;
         nodes[id as usize].accepted = Some(accepted);
-        // (`h` is h_FF or h_add, see [`Guide`].)
-        let Some(h) = guided(&estimate, summed) else { continue }; // a dead end: some goal is unreachable
+        let Some(h) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
         let progressed = h_lm + h < best_h;
         if !std::mem::replace(&mut decided, true) {
             lookahead = mode.wanted(h_lm + h);
@@ -796,10 +804,10 @@ pub fn search(
         // A plain search that has not found a plan in so many expansions is on a plateau
         // the lookahead gets off: on from here. (This state's estimate has no relaxed plan
         // kept; the lookahead follows those of the better states evaluated from now on.)
-        if !lookahead && best.is_none() && mode.switches_on(stats.expanded - begun_at) {
+        if !lookahead && best.is_none() && mode.switches_on(stats.expanded) {
             lookahead = true;
             stats.lookahead = true;
-            stats.lookahead_from = stats.expanded - begun_at;
+            stats.lookahead_from = stats.expanded;
             relaxation.keep_relaxed_plans(true);
         }
         if progressed {
@@ -807,16 +815,12 @@ pub fn search(
         }
         // A search that has found no plan and no better estimate in so many expansions
         // wanders on h_FF's plateaus: it starts again from the initial state, ranked by h_add.
-        if !summed && guide == Guide::Auto && best.is_none() && stats.expanded - best_h_at >= stalled_states {
-            summed = true;
+        // A search that has found no plan and no better estimate in so many expansions
+        // wanders on h_FF's plateaus: from here a third open list ranks the states it
+        // generates by h_add, and takes turns with the other two.
+        if sums.is_none() && best.is_none() && stats.expanded - best_h_at >= stalled_states {
+            sums = Some(BinaryHeap::new());
             stats.summed_from = Some(stats.expanded);
-            bytes = start_over(&mut nodes, &mut placed, &mut seen, (&mut regular, &mut preferred));
-            (best_h, best_h_at, begun_at) = (u32::MAX, stats.expanded, stats.expanded);
-            // (The lookahead is decided again, as at the start: it had been on the plateau.)
-            (lookahead, decided) = (mode != Lookahead::Off, false);
-            (stats.lookahead, stats.lookahead_from) = (false, 0);
-            relaxation.keep_relaxed_plans(lookahead);
-            continue;
         }
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {
             return Outcome::ended(found, Failure::Condition(error), stats);
@@ -958,6 +962,16 @@ pub fn search(
                 preferred.push(entry);
             }
             regular.push(entry);
+            if let Some(sums) = sums.as_mut() {
+                // (Ranked as in the regular list, with h_add for h_FF.)
+                let (h_add, idles) = (estimate.h_add.unwrap_or(h), idles as u32);
+                let estimated = h_lm + h_add + noise;
+                sums.push(if improving {
+                    Reverse((estimated + idles, 0, makespan, h_add, time, depth_key, child_id))
+                } else {
+                    Reverse((estimated, idles, makespan, h_add, time, depth_key, child_id))
+                });
+            }
         }
         // At a state better than any before, a jump along its relaxed plan: the state the
         // lookahead ends in joins the regular list with its own estimate. A chain that does
@@ -1000,9 +1014,7 @@ pub fn search(
                         stats.evaluated += 1;
                         relaxation
                             .evaluate_for_search(task, &chain.states[steps - 1], machine, cache, accepted.as_deref())
-                            .map(|(e, landmarks)| {
-                                guided(&e, summed).map(|g| (g + landmarks.map_or(0, |(_, count)| count), g))
-                            })
+                            .map(|(e, landmarks)| e.h_ff.map(|ff| (ff + landmarks.map_or(0, |(_, count)| count), ff)))
                     };
                     // (A loosened chain is taken whole or not at all: its prefixes went where
                     // the search's own states then could not get on, on build_b100_a8.)
@@ -1086,14 +1098,11 @@ pub fn search(
             // bound and starts that would idle their arm ranked last, instead of going on
             // from open lists ordered for finding any plan.
             bytes = start_over(&mut nodes, &mut placed, &mut seen, (&mut regular, &mut preferred));
+            if let Some(sums) = sums.as_mut() {
+                sums.clear();
+            }
         }
     }
-}
-
-/// A state's rank besides its landmark count: h_add when `summed`, else h_FF (see [`Guide`]);
-/// `None` for a dead end.
-fn guided(estimate: &Estimate, summed: bool) -> Option<u32> {
-    if summed { estimate.h_add } else { estimate.h_ff }
 }
 
 /// Empties the search but for its root, which the regular list holds again unexpanded: the

@@ -87,30 +87,6 @@ impl Lookahead {
     }
 }
 
-/// What the heuristic search ranks states by, besides the landmark count.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Guide {
-    /// h_FF, the length of a relaxed plan; but a search that has neither found a plan nor
-    /// bettered its best estimate in [`Options::stalled_states`] expansions starts again from
-    /// the initial state ranked by h_add ([`Guide::Sum`]).
-    ///
-    /// h_FF counts what a relaxed plan does, and a relaxed plan takes a robot everywhere at
-    /// once: where robots drive to their loads before carrying them, driving one towards a
-    /// load it will carry seldom shortens that plan, and the search wanders through every
-    /// drive of every robot on one estimate. h_add counts each goal's distance on its own, and
-    /// a drive towards a load shortens it. A warehouse KB (robots drive to crates and carry
-    /// them to spots; 20 crates, 4 robots, 48 spots) had no plan after 103,251 expansions
-    /// and 227 s, when the stored states passed 2 GB; ranked by h_add, a plan in 1,367
-    /// expansions. On the blocks world h_add is much worse (the ladder's rungs of 15 blocks
-    /// and more, seed 1, found no plan in 30 s), so h_FF stays first: no rung of the ladder
-    /// goes that long without a better estimate (1,143 expansions at most, seeds 1-2).
-    #[default]
-    Auto,
-    /// h_add, the sum of the goal literals' relaxed costs, from the start (the second search
-    /// and the restarts of a search that turned to it).
-    Sum,
-}
-
 /// Limits on a search.
 #[derive(Clone, Copy, Debug)]
 pub struct Budget {
@@ -175,18 +151,30 @@ pub struct Options {
     /// summed 2576.6 -> 2563.6; 19 rungs shorter, 5 longer). Adding 0 to 2 instead of 0 or
     /// 1 gave 86; the hash ranked before the makespan instead of after, 86.
     pub tie_seed: Option<u64>,
-    /// For the heuristic search: what ranks states besides the landmark count.
-    pub guide: Guide,
-    /// For the heuristic search with [`Guide::Auto`]: the expansions with no plan and no
-    /// better estimate after which it ranks states by h_add instead of h_FF.
+    /// For the heuristic search: after how many expansions with no plan and no better
+    /// estimate a third open list joins the two, ranked by the landmark count plus h_add
+    /// instead of h_FF, the three taking turns (`u64::MAX`: never).
+    ///
+    /// h_FF counts what a relaxed plan does, and a relaxed plan takes a robot everywhere at
+    /// once: where robots drive to their loads before carrying them, driving one towards a
+    /// load seldom shortens that plan, and the search wanders through every drive of every
+    /// robot on one estimate. h_add counts each goal's distance on its own, and such a drive
+    /// shortens it. On `benches/warehouse` (measured with the turns, one run each):
+    /// warehouse_c20_r4_s48 had no plan in 227 s when its stored states passed 2 GB, and has
+    /// one in 21 s (makespan 60); warehouse_c25_r3_s30 23.4 s -> 4.8 s (makespan 131 -> 137).
+    /// Ranked by h_add alone after the stall (the search started over), those took 16.5 and
+    /// 5.3 s (makespans 84 and 139), but a sliding puzzle (15 blocks on 20 cells, moves to a
+    /// neighbouring cell) went from 42.6 s to 46.7 s (makespan 38 -> 52), where with the
+    /// turns it takes 6.2 s (36). On the blocks world h_add alone is much worse (the ladder's
+    /// rungs of 15 blocks and more, seed 1, found no plan in 30 s).
     pub stalled_states: u64,
 }
 
 impl Options {
     /// The default of [`Options::stalled_states`]: above the longest run of expansions
     /// without a better estimate on the ladder (1,143, seeds 1-2, with the lookahead coming
-    /// on after 1000 expansions), below the runs of the warehouse KB of [`Guide::Auto`]
-    /// (8,054 and more).
+    /// on after 1000 expansions), so that its rungs are searched as before, and below those of
+    /// the warehouse KBs (8,054 and more).
     pub const STALLED_STATES: u64 = 2000;
 }
 
@@ -202,7 +190,6 @@ impl Default for Options {
             symmetry: true,
             lookahead: Lookahead::Auto,
             tie_seed: None,
-            guide: Guide::Auto,
             stalled_states: Options::STALLED_STATES,
         }
     }
@@ -241,8 +228,8 @@ pub struct Stats {
     /// When the lookahead was turned on after the initial state: the states expanded before
     /// (0: from the start, or never).
     pub lookahead_from: u64,
-    /// When the heuristic search ranked states by h_add ([`Guide`]): after how many
-    /// expansions (0: from the start).
+    /// When the heuristic search's list ranked by h_add joined ([`Options::stalled_states`]):
+    /// after how many expansions.
     pub summed_from: Option<u64>,
     /// States reached by following a relaxed plan (see `best_first`'s lookahead).
     pub looked_ahead: u64,
@@ -543,7 +530,7 @@ pub fn search_prepared(
                 true,
                 options.epsilon,
                 options.tie_seed,
-                (options.guide, options.stalled_states),
+                options.stalled_states,
                 scorer.as_mut().map(|s| &mut **s as &mut dyn Score),
                 progress,
             );
@@ -570,7 +557,7 @@ pub fn search_prepared(
                     false,
                     options.epsilon,
                     options.tie_seed,
-                    (options.guide, options.stalled_states),
+                    options.stalled_states,
                     scorer,
                     progress,
                 );

@@ -148,9 +148,6 @@ pub struct PlanSettings {
     /// Break the heuristic search's last ties by a hash of this seed (see
     /// [`Options::tie_seed`]); the restarts of `improve` set it.
     pub tie_seed: Option<u64>,
-    /// What the heuristic search ranks states by besides the landmark count ([`planner::Guide`]);
-    /// the second search and the restarts of a search that turned to h_add set it.
-    pub guide: planner::Guide,
     /// Let `reassign` spend more time on every plan: each goes both ways, with and without the
     /// variants of its rules, whatever its size (see `session::temporal::reassign`). Always so
     /// while improving (`improve`, and its restarts and second searches, which set this).
@@ -174,7 +171,6 @@ impl Default for PlanSettings {
             symmetry: true,
             lookahead: planner::Lookahead::Auto,
             tie_seed: None,
-            guide: planner::Guide::Auto,
             thorough: false,
         }
     }
@@ -199,7 +195,6 @@ impl PlanSettings {
             symmetry: self.symmetry,
             lookahead: self.lookahead,
             tie_seed: self.tie_seed,
-            guide: self.guide,
             ..Options::default()
         }
     }
@@ -824,7 +819,6 @@ impl Session {
             max_states: expanded,
             improve: None,
             thorough: settings.thorough(),
-            guide: guide_after(settings, &stats),
             ..settings.clone()
         };
         // Its warnings are the first search's; its failures do not matter.
@@ -902,8 +896,6 @@ impl Session {
         progress: &mut dyn Progress,
     ) -> (Planned, usize, Option<u64>) {
         let started = Instant::now();
-        // (Ranked as the plan's search was, when it turned to h_add.)
-        let guide = planned.stats.map_or(settings.guide, |stats| guide_after(settings, &stats));
         let mut best = planned;
         let (mut restarted, mut kept) = (0, None);
         // Their warnings are the first search's; their failures do not matter.
@@ -927,7 +919,6 @@ impl Session {
                 timeout,
                 max_states: states,
                 thorough: settings.thorough(),
-                guide,
                 ..settings.clone()
             };
             let searched = self.search(problem, &again, progress);
@@ -1515,15 +1506,6 @@ fn groundings_note(kb: &Kb, interner: &Interner, problem: usize, grounded: &Grou
     )
 }
 
-/// What a search after the one that gave `stats` (with `settings`) ranks states by: h_add
-/// from the start if that one turned to it ([`planner::Guide`]), else as `settings` say.
-fn guide_after(settings: &PlanSettings, stats: &Stats) -> planner::Guide {
-    match stats.summed_from {
-        Some(_) => planner::Guide::Sum,
-        None => settings.guide,
-    }
-}
-
 /// A search's figures in one line, with the process's peak memory where the system reports it.
 pub fn stats_line(stats: &Stats) -> String {
     // What the evaluations count apart: states the lookahead reached (said whenever it was
@@ -1537,9 +1519,8 @@ pub fn stats_line(stats: &Stats) -> String {
             .into_iter()
             .filter(|&(n, _, always)| n > 0 || always)
             .map(|(n, what, _)| format!("{n} {what}"))
-            .chain(stats.summed_from.map(|from| match from {
-                0 => "ranked by h_add".to_string(),
-                from => format!("ranked by h_add from the start after {from} expansions without a better estimate"),
+            .chain(stats.summed_from.map(|from| {
+                format!("a list ranked by h_add from {from} expansions on, without a better estimate before")
             }))
             .collect();
     format!(
