@@ -7,7 +7,12 @@
 //! sees the work a landmark count cannot. Successors reached through helpful actions (FF's:
 //! those that achieve a subgoal of the relaxed plan's first layer) also go to a preferred open
 //! list, and the two lists take turns. States are stored once and looked up for duplicate
-//! detection; a goal state is recognised when it is generated.
+//! detection; a goal state is recognised when it is generated. A search that has found no
+//! plan and no better estimate in [`super::Options::stalled_states`] expansions adds a third
+//! list, ranked by the landmark count plus h_add (the sum of the goals' relaxed costs), for
+//! the states it generates from then on, and the three take turns: where robots must drive
+//! to their loads, h_FF's relaxed plan has a robot everywhere at once and rewards no drive,
+//! h_add does.
 //!
 //! Among states with the same estimate, those reached by a start whose action cannot end yet
 //! (an arm that would hold its block in the air, waiting) come last; then the one whose plan
@@ -794,10 +799,10 @@ pub fn search(
         let (accepted, h_lm) = landmarks.unwrap_or_default();
         bytes += accepted.len() * 8;
         nodes[id as usize].accepted = Some(accepted);
-        let Some(h) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
-        let progressed = h_lm + h < best_h;
+        let Some(h_ff) = estimate.h_ff else { continue }; // a dead end: some goal is unreachable
+        let progressed = h_lm + h_ff < best_h;
         if !std::mem::replace(&mut decided, true) {
-            lookahead = mode.wanted(h_lm + h);
+            lookahead = mode.wanted(h_lm + h_ff);
             stats.lookahead = lookahead;
             relaxation.keep_relaxed_plans(lookahead);
         }
@@ -811,10 +816,8 @@ pub fn search(
             relaxation.keep_relaxed_plans(true);
         }
         if progressed {
-            (best_h, best_h_at) = (h_lm + h, stats.expanded);
+            (best_h, best_h_at) = (h_lm + h_ff, stats.expanded);
         }
-        // A search that has found no plan and no better estimate in so many expansions
-        // wanders on h_FF's plateaus: it starts again from the initial state, ranked by h_add.
         // A search that has found no plan and no better estimate in so many expansions
         // wanders on h_FF's plateaus: from here a third open list ranks the states it
         // generates by h_add, and takes turns with the other two.
@@ -912,7 +915,7 @@ pub fn search(
                     node.depth = depth;
                     node.makespan = makespan;
                     node.accepted = None;
-                    regular.push(Reverse((h_lm + h, 0, makespan, h, time, depth, other)));
+                    regular.push(Reverse((h_lm + h_ff, 0, makespan, h_ff, time, depth, other)));
                 }
                 continue;
             }
@@ -952,11 +955,11 @@ pub fn search(
                 }
                 None => (depth, 0),
             };
-            let estimated = h_lm + h + noise;
+            let estimated = h_lm + h_ff + noise;
             let entry = if improving {
-                Reverse((estimated + idles as u32, 0, makespan, h, time, depth_key, child_id))
+                Reverse((estimated + idles as u32, 0, makespan, h_ff, time, depth_key, child_id))
             } else {
-                Reverse((estimated, idles as u32, makespan, h, time, depth_key, child_id))
+                Reverse((estimated, idles as u32, makespan, h_ff, time, depth_key, child_id))
             };
             if helpful {
                 preferred.push(entry);
@@ -964,7 +967,7 @@ pub fn search(
             regular.push(entry);
             if let Some(sums) = sums.as_mut() {
                 // (Ranked as in the regular list, with h_add for h_FF.)
-                let (h_add, idles) = (estimate.h_add.unwrap_or(h), idles as u32);
+                let (h_add, idles) = (estimate.h_add.unwrap_or(h_ff), idles as u32);
                 let estimated = h_lm + h_add + noise;
                 sums.push(if improving {
                     Reverse((estimated + idles, 0, makespan, h_add, time, depth_key, child_id))
@@ -1037,10 +1040,10 @@ pub fn search(
                     }
                 };
                 // (A careful chain is taken only if it ends better than where it started.)
-                if let Some((length, end)) = kept
-                    && (!careful || end.0 < h_lm + h)
+                if let Some((length, h)) = kept
+                    && (!careful || h.0 < h_lm + h_ff)
                 {
-                    taken = Some((chain, length, end));
+                    taken = Some((chain, length, h));
                 }
                 if loosen {
                     loosened_misses = if taken.is_some() { 0 } else { loosened_misses + 1 };
@@ -1049,7 +1052,7 @@ pub fn search(
                     plain_dead = true;
                     continue;
                 }
-                if taken.as_ref().is_none_or(|(_, _, (end_h, _))| *end_h < h_lm + h) {
+                if taken.as_ref().is_none_or(|(_, _, (end_h, _))| *end_h < h_lm + h_ff) {
                     break;
                 }
             }
@@ -1097,32 +1100,21 @@ pub fn search(
             // The first plan is found: search again from the start with its makespan as the
             // bound and starts that would idle their arm ranked last, instead of going on
             // from open lists ordered for finding any plan.
-            bytes = start_over(&mut nodes, &mut placed, &mut seen, (&mut regular, &mut preferred));
+            let root = nodes.swap_remove(0);
+            nodes.clear();
+            placed.clear();
+            nodes.push(Node { accepted: None, ..root });
+            seen.clear();
+            seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);
+            regular.clear();
+            preferred.clear();
             if let Some(sums) = sums.as_mut() {
                 sums.clear();
             }
+            regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
+            bytes = nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>();
         }
     }
-}
-
-/// Empties the search but for its root, which the regular list holds again unexpanded: the
-/// bytes stored then.
-fn start_over(
-    nodes: &mut Vec<Node>,
-    placed: &mut Vec<u32>,
-    seen: &mut HashTable<u32>,
-    (regular, preferred): (&mut BinaryHeap<Entry>, &mut BinaryHeap<Entry>),
-) -> usize {
-    let root = nodes.swap_remove(0);
-    nodes.clear();
-    placed.clear();
-    nodes.push(Node { accepted: None, ..root });
-    seen.clear();
-    seen.insert_unique(nodes[0].fingerprint.0, 0, |_| 0);
-    regular.clear();
-    preferred.clear();
-    regular.push(Reverse((0, 0, 0, 0, 0, 0, 0)));
-    nodes[0].state.as_ref().map_or(0, State::footprint) + std::mem::size_of::<Node>()
 }
 
 #[cfg(test)]

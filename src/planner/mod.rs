@@ -159,13 +159,13 @@ pub struct Options {
     /// once: where robots drive to their loads before carrying them, driving one towards a
     /// load seldom shortens that plan, and the search wanders through every drive of every
     /// robot on one estimate. h_add counts each goal's distance on its own, and such a drive
-    /// shortens it. On `benches/warehouse` (measured with the turns, one run each):
+    /// shortens it. On `benches/other_domains` (`kbc plan --schedule`, one run each):
     /// warehouse_c20_r4_s48 had no plan in 227 s when its stored states passed 2 GB, and has
-    /// one in 21 s (makespan 60); warehouse_c25_r3_s30 23.4 s -> 4.8 s (makespan 131 -> 137).
+    /// one in 19.9 s (makespan 60); warehouse_c25_r3_s30 23.4 s -> 4.9 s (makespan 131 -> 137).
     /// Ranked by h_add alone after the stall (the search started over), those took 16.5 and
-    /// 5.3 s (makespans 84 and 139), but a sliding puzzle (15 blocks on 20 cells, moves to a
-    /// neighbouring cell) went from 42.6 s to 46.7 s (makespan 38 -> 52), where with the
-    /// turns it takes 6.2 s (36). On the blocks world h_add alone is much worse (the ladder's
+    /// 5.3 s (makespans 84 and 139), but sliding_b15_a3_c20 (moves to a neighbouring cell)
+    /// went from 42.6 s to 46.7 s (makespan 38 -> 52), where with the turns it takes 6.4 s
+    /// (36). On the blocks world h_add alone is much worse (the ladder's
     /// rungs of 15 blocks and more, seed 1, found no plan in 30 s).
     pub stalled_states: u64,
 }
