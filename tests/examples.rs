@@ -54,6 +54,38 @@ fn every_example_checks_clean() {
 }
 
 #[test]
+fn the_benchmarks_kbs_of_other_domains_check_clean() {
+    // Each warehouse problem with the domain file it is measured with (see its README), the
+    // sliding puzzle alone: what `kbc plan` reads when those figures are taken.
+    let dir = Path::new("benches/other_domains");
+    let files = roots(dir);
+    let domain = dir.join("warehouse_domain.pl");
+    let mut checked = 0;
+    for file in files.iter().filter(|f| **f != domain) {
+        let set: Vec<&PathBuf> = match file.file_name().is_some_and(|n| n.to_string_lossy().starts_with("warehouse_")) {
+            true => vec![&domain, file],
+            false => vec![file],
+        };
+        let mut db = SourceDb::new();
+        let ids: Vec<_> = set
+            .iter()
+            .map(|p| db.add(p.display().to_string(), None, std::fs::read_to_string(p).expect("readable KB")))
+            .collect();
+        let (db, frontend, diagnostics) = kbc::session::Session::open(db, &ids, &mut FsLoader).into_parts();
+        let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
+        assert!(
+            problems.is_empty(),
+            "{} does not check clean:\n{}",
+            file.display(),
+            render::all_to_string(&db, &diagnostics)
+        );
+        assert_eq!(frontend.kb.problems.len(), 1, "{}", file.display());
+        checked += 1;
+    }
+    assert!(checked >= 5, "only {checked} KBs checked");
+}
+
+#[test]
 fn the_paper_tests_use_the_standard_domain_and_keep_their_names() {
     let path = Path::new("examples/01_paper_tests/tests.pl");
     let session = kbc::session::Session::open_files(&[path.to_path_buf()]);
