@@ -231,6 +231,7 @@ impl PlanningArgs {
             symmetry: !self.no_symmetry,
             lookahead: self.lookahead.into(),
             tie_seed: None,
+            stalled: false,
             thorough: false,
         }
     }

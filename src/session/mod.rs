@@ -148,6 +148,10 @@ pub struct PlanSettings {
     /// Break the heuristic search's last ties by a hash of this seed (see
     /// [`Options::tie_seed`]); the restarts of `improve` set it.
     pub tie_seed: Option<u64>,
+    /// Start the heuristic search with its third open list, ranked by h_add
+    /// ([`Options::stalled_states`] 0): set for the second search and the restarts of a search
+    /// that stalled.
+    pub stalled: bool,
     /// Let `reassign` spend more time on every plan: each goes both ways, with and without the
     /// variants of its rules, whatever its size (see `session::temporal::reassign`). Always so
     /// while improving (`improve`, and its restarts and second searches, which set this).
@@ -171,6 +175,7 @@ impl Default for PlanSettings {
             symmetry: true,
             lookahead: planner::Lookahead::Auto,
             tie_seed: None,
+            stalled: false,
             thorough: false,
         }
     }
@@ -195,7 +200,10 @@ impl PlanSettings {
             symmetry: self.symmetry,
             lookahead: self.lookahead,
             tie_seed: self.tie_seed,
-            ..Options::default()
+            stalled_states: match self.stalled {
+                true => 0,
+                false => Options::STALLED_STATES,
+            },
         }
     }
 
@@ -819,6 +827,7 @@ impl Session {
             max_states: expanded,
             improve: None,
             thorough: settings.thorough(),
+            stalled: settings.stalled || stats.summed_from.is_some(),
             ..settings.clone()
         };
         // Its warnings are the first search's; its failures do not matter.
@@ -896,6 +905,8 @@ impl Session {
         progress: &mut dyn Progress,
     ) -> (Planned, usize, Option<u64>) {
         let started = Instant::now();
+        // (A plan whose search stalled: the restarts begin with the third list.)
+        let stalled = settings.stalled || planned.stats.is_some_and(|stats| stats.summed_from.is_some());
         let mut best = planned;
         let (mut restarted, mut kept) = (0, None);
         // Their warnings are the first search's; their failures do not matter.
@@ -919,6 +930,7 @@ impl Session {
                 timeout,
                 max_states: states,
                 thorough: settings.thorough(),
+                stalled,
                 ..settings.clone()
             };
             let searched = self.search(problem, &again, progress);
