@@ -27,28 +27,37 @@ fn roots(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// The front end on `files` read together, as `kbc check FILES` would; panics with the
+/// rendered diagnostics, naming `what`, unless it checks clean (no finding with a code).
+fn checked_clean(files: &[&Path], what: &Path) -> kbc::session::Frontend {
+    let mut db = SourceDb::new();
+    let ids: Vec<_> = files
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p).expect("readable KB file");
+            db.add(p.display().to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
+        })
+        .collect();
+    let (db, frontend, diagnostics) = kbc::session::Session::open(db, &ids, &mut FsLoader).into_parts();
+    let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
+    assert!(
+        problems.is_empty(),
+        "{} does not check clean:\n{}",
+        what.display(),
+        render::all_to_string(&db, &diagnostics)
+    );
+    frontend
+}
+
 #[test]
 fn every_example_checks_clean() {
     let dirs = example_dirs();
     assert!(dirs.len() >= 5, "expected the numbered examples, found {dirs:?}");
     for dir in dirs {
-        let mut db = SourceDb::new();
-        let ids: Vec<_> = roots(&dir)
-            .iter()
-            .map(|p| {
-                let text = std::fs::read_to_string(p).expect("readable example file");
-                db.add(p.display().to_string(), Some(std::fs::canonicalize(p).expect("exists")), text)
-            })
-            .collect();
-        assert!(!ids.is_empty(), "{} has no .pl file", dir.display());
-        let (db, frontend, diagnostics) = kbc::session::Session::open(db, &ids, &mut FsLoader).into_parts();
-        let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
-        assert!(
-            problems.is_empty(),
-            "{} does not check clean:\n{}",
-            dir.display(),
-            render::all_to_string(&db, &diagnostics)
-        );
+        let files = roots(&dir);
+        assert!(!files.is_empty(), "{} has no .pl file", dir.display());
+        let files: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
+        let frontend = checked_clean(&files, &dir);
         assert!(!frontend.kb.problems.is_empty(), "{} defines no problem", dir.display());
     }
 }
@@ -58,27 +67,14 @@ fn the_benchmarks_kbs_of_other_domains_check_clean() {
     // Each warehouse problem with the domain file it is measured with (see its README), the
     // sliding puzzle alone: what `kbc plan` reads when those figures are taken.
     let dir = Path::new("benches/other_domains");
-    let files = roots(dir);
     let domain = dir.join("warehouse_domain.pl");
     let mut checked = 0;
-    for file in files.iter().filter(|f| **f != domain) {
-        let set: Vec<&PathBuf> = match file.file_name().is_some_and(|n| n.to_string_lossy().starts_with("warehouse_")) {
+    for file in roots(dir).iter().filter(|f| **f != domain) {
+        let set: Vec<&Path> = match file.file_name().is_some_and(|n| n.to_string_lossy().starts_with("warehouse_")) {
             true => vec![&domain, file],
             false => vec![file],
         };
-        let mut db = SourceDb::new();
-        let ids: Vec<_> = set
-            .iter()
-            .map(|p| db.add(p.display().to_string(), None, std::fs::read_to_string(p).expect("readable KB")))
-            .collect();
-        let (db, frontend, diagnostics) = kbc::session::Session::open(db, &ids, &mut FsLoader).into_parts();
-        let problems: Vec<_> = diagnostics.iter().filter(|d| d.code.is_some()).collect();
-        assert!(
-            problems.is_empty(),
-            "{} does not check clean:\n{}",
-            file.display(),
-            render::all_to_string(&db, &diagnostics)
-        );
+        let frontend = checked_clean(&set, file);
         assert_eq!(frontend.kb.problems.len(), 1, "{}", file.display());
         checked += 1;
     }
