@@ -217,6 +217,13 @@ impl PlanSettings {
         self.improve.is_some() && self.reassigns()
     }
 
+    /// Whether a search after one with these settings that gave `stats` (its second search, a
+    /// restart) starts with the list ranked by h_add ([`PlanSettings::stalled`]): when these
+    /// did, or that search stalled.
+    fn stalled_after(&self, stats: Option<&Stats>) -> bool {
+        self.stalled || stats.is_some_and(|stats| stats.summed_from.is_some())
+    }
+
     /// Whether `reassign` runs thorough ([`PlanSettings::thorough`]): when asked, and always
     /// while improving.
     fn thorough(&self) -> bool {
@@ -827,7 +834,7 @@ impl Session {
             max_states: expanded,
             improve: None,
             thorough: settings.thorough(),
-            stalled: settings.stalled || stats.summed_from.is_some(),
+            stalled: settings.stalled_after(Some(&stats)),
             ..settings.clone()
         };
         // Its warnings are the first search's; its failures do not matter.
@@ -906,7 +913,7 @@ impl Session {
     ) -> (Planned, usize, Option<u64>) {
         let started = Instant::now();
         // (A plan whose search stalled: the restarts begin with the third list.)
-        let stalled = settings.stalled || planned.stats.is_some_and(|stats| stats.summed_from.is_some());
+        let stalled = settings.stalled_after(planned.stats.as_ref());
         let mut best = planned;
         let (mut restarted, mut kept) = (0, None);
         // Their warnings are the first search's; their failures do not matter.
@@ -1531,8 +1538,9 @@ pub fn stats_line(stats: &Stats) -> String {
             .into_iter()
             .filter(|&(n, _, always)| n > 0 || always)
             .map(|(n, what, _)| format!("{n} {what}"))
-            .chain(stats.summed_from.map(|from| {
-                format!("a list ranked by h_add from {from} expansions on, without a better estimate before")
+            .chain(stats.summed_from.map(|from| match from {
+                0 => "a list ranked by h_add from the start".to_string(),
+                from => format!("a list ranked by h_add from {from} expansions on, without a better estimate before"),
             }))
             .collect();
     format!(
