@@ -47,8 +47,8 @@ const NONE: u32 = u32::MAX;
 /// What an action has gathered of its preconditions in an evaluation: the sum of the costs of
 /// those settled (its h_add cost, less its weight, once all are), and how many are not yet.
 /// Kept side by side, so that the evaluation's loop reads and writes one cache line per action
-/// it visits, not two (in two arrays, their loads took most of the loop's perf samples on a
-/// 55,000-action task).
+/// it visits, not two (in two arrays, their loads were the loop's hottest instructions under
+/// perf on a 55,000-action task).
 #[derive(Clone, Copy, Debug)]
 struct Counter {
     cost: u32,

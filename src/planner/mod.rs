@@ -159,14 +159,16 @@ pub struct Options {
     /// once: where robots drive to their loads before carrying them, driving one towards a
     /// load seldom shortens that plan, and the search wanders through every drive of every
     /// robot on one estimate. h_add counts each goal's distance on its own, and such a drive
-    /// shortens it. On `benches/other_domains` (`kbc plan --schedule`, one run each):
-    /// warehouse_c20_r4_s48 had no plan in 227 s when its stored states passed 2 GB, and has
-    /// one in 19.9 s (makespan 60); warehouse_c25_r3_s30 23.4 s -> 4.9 s (makespan 131 -> 137).
-    /// Ranked by h_add alone after the stall (the search started over), those took 16.5 and
-    /// 5.3 s (makespans 84 and 139), but sliding_b15_a3_c20 (moves to a neighbouring cell)
-    /// went from 42.6 s to 46.7 s (makespan 38 -> 52), where with the turns it takes 6.4 s
-    /// (36). On the blocks world h_add alone is much worse (the ladder's
-    /// rungs of 15 blocks and more, seed 1, found no plan in 30 s).
+    /// shortens it. On `benches/other_domains` (`kbc plan --schedule`, one run each, the
+    /// second search still starting as the first): warehouse_c20_r4_s48 had no plan in 227 s
+    /// when its stored states passed 2 GB, and has one in 19.9 s (makespan 60);
+    /// warehouse_c25_r3_s30 22.4 s -> 4.9 s (makespan 131 -> 137). Ranked by h_add alone after
+    /// the stall (the search started over), those took 16.5 and 5.3 s (makespans 84 and 139),
+    /// but sliding_b15_a3_c20 (moves to a neighbouring cell) went from 42.6 s to 46.7 s
+    /// (makespan 38 -> 52), where with the turns it took 6.4 s (36). (With the second search
+    /// starting with the list, `PlanSettings::stalled`: 18.9 s, 5.94 s with makespan 124, 3.39
+    /// s with 27.) On the blocks world h_add alone is much worse: 18 of the ladder's 52 rungs
+    /// of seed 1, all of 15 blocks or more, found no plan in 30 s.
     pub stalled_states: u64,
 }
 
@@ -174,7 +176,8 @@ impl Options {
     /// The default of [`Options::stalled_states`]: above the longest run of expansions
     /// without a better estimate on the ladder (1,143, seeds 1-2, with the lookahead coming
     /// on after 1000 expansions), so that its rungs are searched as before, and below those of
-    /// the warehouse KBs (8,054 and more).
+    /// warehouse_c20_r4_s48 and warehouse_c25_r3_s30 (8,054 and 8,636 expansions, traced in
+    /// runs of 20 s).
     pub const STALLED_STATES: u64 = 2000;
 }
 
