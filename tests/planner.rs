@@ -1442,9 +1442,10 @@ t2 :- go([], [beeped(a), poked(_, 1)]).
     assert_eq!(names_of(1, &[]), ["beep(a)", "beep(b)", "beep(c)"]);
 }
 
-/// A warehouse in another author's style: robots drive to a crate, then carry it to a spot no
-/// crate stands on or heads for; `crates` crates on a grid of `width` x `height` spots, each
-/// crate's goal the start spot of the crate `shift` after it (the last ones' goals free spots).
+/// A warehouse in another author's style (`benches/other_domains/warehouse_domain.pl`): robots
+/// drive to a crate, then carry it to a spot no crate stands on or heads for; `crates` crates
+/// on a grid of `width` x `height` spots, each crate's goal the start spot of the crate `shift`
+/// after it (the last ones' goals free spots).
 fn warehouse(crates: usize, robots: usize, (width, height): (usize, usize), shift: usize) -> Frontend {
     let spots: Vec<(usize, usize)> = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).collect();
     let list = |values: std::ops::Range<usize>| values.map(|v| v.to_string()).collect::<Vec<_>>().join(", ");
@@ -1460,21 +1461,12 @@ fn warehouse(crates: usize, robots: usize, (width, height): (usize, usize), shif
         let (gx, gy) = spots[c + shift];
         goal.push(format!("crate_at(c{c}, {gx}, {gy})"));
     }
+    // The domain of `benches/other_domains`, with this problem's robots, spots and goal.
+    let domain = std::fs::read_to_string("benches/other_domains/warehouse_domain.pl").expect("the warehouse domain");
     let source = format!(
-        "{robots_facts}
+        "{domain}
+{robots_facts}
 spot(X, Y) :- member(X, [{xs}]), member(Y, [{ys}]).
-action(drive_start(R, X1, Y1, X2, Y2), [idle(R), robot_at(R, X1, Y1)], [], [],
-    [spot(X2, Y2), (X1 \\== X2 ; Y1 \\== Y2)], [del(idle(R)), del(robot_at(R, X1, Y1))]).
-action(drive_end(R, _X1, _Y1, X2, Y2), [], [], [], [], [add(robot_at(R, X2, Y2)), add(idle(R))]).
-action(carry_start(R, C, X1, Y1, X2, Y2),
-    [idle(R), robot_at(R, X1, Y1), crate_at(C, X1, Y1)],
-    [crate_at(_, X2, Y2), heading(_, X2, Y2)], [],
-    [spot(X2, Y2), (X1 \\== X2 ; Y1 \\== Y2)],
-    [del(idle(R)), del(robot_at(R, X1, Y1)), del(crate_at(C, X1, Y1)), add(heading(C, X2, Y2))]).
-action(carry_end(R, C, _X1, _Y1, X2, Y2), [heading(C, X2, Y2)], [], [], [],
-    [del(heading(C, X2, Y2)), add(crate_at(C, X2, Y2)), add(robot_at(R, X2, Y2)), add(idle(R))]).
-duration(drive(_, X1, Y1, X2, Y2), D, inf) :- D is abs(X1 - X2) + abs(Y1 - Y2).
-duration(carry(_, _, X1, Y1, X2, Y2), D, M) :- D is abs(X1 - X2) + abs(Y1 - Y2) + 1, M is 3 * D.
 shuffle :- go([{init}], [{goal}]).
 ",
         robots_facts = (1..=robots).map(|r| format!("robot(r{r}).")).collect::<Vec<_>>().join(" "),
