@@ -28,7 +28,8 @@
 //! `cargo test` checks the rungs of 2 to 4 blocks of three seeds (about 11 s in a debug
 //! build); `KBC_OPTIMUM_BLOCKS=6 cargo test --release --test optimum -- --nocapture` goes to
 //! 6 blocks (about 2 minutes) and prints each rung's optimum, bound and plan;
-//! `KBC_OPTIMUM_ONLY=TEXT` keeps the rungs whose name contains TEXT.
+//! `KBC_OPTIMUM_ONLY=TEXT` keeps the rungs whose name contains TEXT, and
+//! `KBC_OPTIMUM_SEEDS=1,5,8` takes other seeds than 1-3.
 //!
 //! The grid rungs, whose KB is another domain (agents moving blocks between `pos/2` cells,
 //! no stacking), have a reference of their own at the end of the file.
@@ -353,7 +354,13 @@ const LIMIT: usize = 20_000_000;
 
 fn rungs(most_blocks: usize) -> Vec<Rung> {
     let mut rungs = Vec::new();
-    for seed in 1..=3 {
+    let seeds: Vec<u64> = std::env::var("KBC_OPTIMUM_SEEDS")
+        .ok()
+        .map(|v| {
+            v.split(',').map(|s| s.trim().parse().expect("KBC_OPTIMUM_SEEDS: seeds separated by commas")).collect()
+        })
+        .unwrap_or(vec![1, 2, 3]);
+    for seed in seeds {
         for family in [Family::Build, Family::Reverse, Family::Swap] {
             for (blocks, arms) in ladder::SIZES.iter().copied().filter(|&(b, _)| b <= most_blocks) {
                 rungs.push(Rung { family, blocks, arms, seed });

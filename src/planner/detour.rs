@@ -163,6 +163,10 @@ pub fn rewrite(
 /// How many times [`relocate`] bans the alternative a failed replay blames and replays again.
 const RELOCATION_RETRIES: usize = 16;
 
+/// How many steps a [`relocate`] replay with the schedule may hold back at once before it
+/// gives up (and blames the first).
+const RELOCATION_PENDING: usize = 64;
+
 /// How many failed replays of [`relocate`] only ban the choice blamed before the plan's
 /// places are protected too.
 const BANS_BEFORE_PROTECTING: usize = 4;
@@ -185,7 +189,13 @@ const BANS_BEFORE_PROTECTING: usize = 4;
 /// (`times`, each step's earliest time; empty for none), a start may also be sent to a place
 /// taken when it comes but left before its end, by a step of the plan (one not relocated) or
 /// by a unit this replay relocated there: its end waits until the place is free, and the cost
-/// counts that wait beyond its least duration (the leaving step's time less the start's). A
+/// counts that wait beyond its least duration (the leaving step's time less the start's).
+/// With `hold_back` as well, the place may be left after the start's end in the plan's order,
+/// and may be one a thing stands on from the initial state (the first start that leaves from
+/// it frees it): the replay then holds back every step that does not apply yet (the end, the
+/// unit's release and what needs it) and takes each as soon as it applies after a later step
+/// (a block sent aside before the block on the nearer cell has started to leave). A step still
+/// held back at the end, or more than [`RELOCATION_PENDING`] at once, fails the replay. A
 /// later step that no longer applies is taken as the applicable instance named as it is (a grip where the block now
 /// stands), or named with a relocation's new values instead of its old ones (the end of the
 /// move, the move off the cell and its end). A step that still fails, or a relocatable start
@@ -206,7 +216,7 @@ pub fn relocate(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    (waits, times): (&[i64], &[i64]),
+    (waits, times, hold_back): (&[i64], &[i64], bool),
     placing: Placing,
     cost: &mut dyn FnMut(usize, &Term) -> i64,
 ) -> Result<Rewritten, Failure> {
@@ -223,6 +233,9 @@ pub fn relocate(
         })
         .filter(|place| !place.values.is_empty())
         .collect();
+    // With the schedule: the places things stand on from the start and the plan's first
+    // start to leave them (see `Timing::initial`).
+    let initial = if hold_back { rewriter.initial_places(task, &path, &places) } else { Vec::new() };
     let preferred = match placing {
         Placing::InPlanOrder => FxHashMap::default(),
         Placing::ByRegret => rewriter.by_regret(task, &path, &leaving, &places, cost),
@@ -233,7 +246,7 @@ pub fn relocate(
         // After a few conflicts over places (the plan needs most of its places), every
         // start's place is its own while its unit is there.
         let protected = if attempt < BANS_BEFORE_PROTECTING { &[][..] } else { &places[..] };
-        let timing = Timing { waits, times, places: &places };
+        let timing = Timing { waits, times, places: &places, initial: &initial, hold_back };
         rewriter.names.clone_from(&names);
         match rewriter.replay(task, &path, &leaving, (&banned, protected, &preferred), timing, cost) {
             Ok((steps, taken)) => return Ok(Rewritten { plan: plan_from(task, &steps), taken }),
@@ -321,6 +334,13 @@ struct Timing<'a> {
     waits: &'a [i64],
     times: &'a [i64],
     places: &'a [Place],
+    /// The places the plan's starts leave from before any of its starts took them (a
+    /// block's cell at the start): a thing stands there until `Place::until`. Only when
+    /// holding back.
+    initial: &'a [Place],
+    /// Whether a start may be sent to a place left after its end in the plan's order (its end
+    /// and what follows from it held back until the place is free), or only before.
+    hold_back: bool,
 }
 
 /// A place a plan's start leaves its unit on, and while.
@@ -404,7 +424,7 @@ impl Rewriter<'_, '_> {
         timing: Timing<'_>,
         cost: &mut dyn FnMut(usize, &Term) -> i64,
     ) -> Result<(Vec<Applicable>, Vec<usize>), Option<(usize, Vec<Term>)>> {
-        let Timing { waits, times, places } = timing;
+        let Timing { waits, times, places, initial, hold_back: holding } = timing;
         // The places of this replay's relocated starts, while their units are there.
         let mut relocated: Vec<Place> = Vec::new();
         let mut state = task.init.clone();
@@ -414,10 +434,11 @@ impl Rewriter<'_, '_> {
         // The chosen values of the starts taken and not yet ended (relocated: not yet left):
         // the index in `path` of the step that frees them, their family, the values.
         let mut reserved: Vec<(usize, usize, Vec<Term>)> = Vec::new();
+        // Steps held back, in plan order, each with the relocation to blame if it stays so.
+        let mut pending: Vec<(usize, Option<(usize, Vec<Term>)>)> = Vec::new();
         let blame =
             |active: &[Moved], failed: &Term| to_blame(active, |m| &m.new, failed).map(|m| (m.start, m.new.clone()));
         for (k, action) in path.iter().enumerate() {
-            reserved.retain(|(end, _, _)| *end != k);
             if let Some(leaves) = leaving[k] {
                 let own = self.chosen_values(task, path, k);
                 // The plan's own values also cost the wait their end had in its schedule.
@@ -432,27 +453,31 @@ impl Rewriter<'_, '_> {
                     if !allowed {
                         return None;
                     }
-                    let reserved = reserved.iter().any(|(_, f, v)| *f == family && v == values);
+                    // (A place freed by step k itself is free for it.)
+                    let reserved = reserved.iter().any(|(e, f, v)| *e != k && *f == family && v == values);
                     if values == own {
                         return (!reserved).then_some((wait, None));
                     }
-                    // With the schedule's times: a place taken now (as the plan has it, or as
-                    // this replay relocated a unit there) but left before this start's end.
-                    // The move may head there and arrive once it is free, as a block in the
-                    // air waits above a cell being cleared; ready when its units leave in the
-                    // plan's schedule, after this start's time.
+                    // With the schedule's times: a place taken now (as the plan has it, as
+                    // this replay relocated a unit there, or, holding back, from the start)
+                    // but left before this start's end in the plan's order (holding back, at
+                    // any later step: the end and what follows from it are held back until
+                    // then). The move may head there and arrive once it is free, as a block
+                    // in the air waits above a cell being cleared; ready when its units leave
+                    // in the plan's schedule, after this start's time.
                     if let (false, Some(end)) = (times.is_empty(), end) {
                         let mut there = places
                             .iter()
                             .filter(|place| !taken.contains(&place.from))
                             .chain(&relocated)
-                            .filter(|place| place.family == family && place.values == values)
-                            .filter(|place| place.from < k && place.until > k)
+                            .filter(|place| place.from < k)
+                            .chain(initial)
+                            .filter(|place| place.family == family && place.values == values && place.until > k)
                             .peekable();
                         if there.peek().is_some() {
                             let ready = there.try_fold(0, |ready, place| {
                                 let (left, now) = (times.get(place.until)?, times.get(k)?);
-                                (place.until < end).then(|| ready.max(left - now))
+                                (holding || place.until < end).then(|| ready.max(left - now))
                             });
                             if ready.is_some() {
                                 return Some((0, ready));
@@ -462,53 +487,152 @@ impl Rewriter<'_, '_> {
                     (!reserved).then_some((0, None))
                 };
                 let prefer = preferred.get(&k).map(Vec::as_slice);
-                let Some((step, old, new)) = self.cheapest(task, path, (k, leaves), &state, (free, prefer), cost)
-                else {
-                    return Err(blame(&active, &self.names[k]));
-                };
-                state = successors::apply(task, &state, &step);
-                out.push(step);
-                // A unit sent elsewhere keeps the place until it leaves: the plan's other
-                // starts may have counted on it being free.
-                let until = if old == new { self.end_index[k] } else { Some(leaves) };
-                if let Some(until) = until {
-                    reserved.push((until, self.families[action.schema][0], new.clone()));
-                }
-                if old != new {
-                    self.rename_place(task, path, (k, leaves), &old, &new);
-                    // (Kept until the move off the new place has ended too: its end names
-                    // the place it left.)
-                    let retire = self.end_index[leaves].unwrap_or(leaves);
+                let chosen = self.cheapest(task, path, (k, leaves), &state, (free, prefer), cost);
+                if let Some((step, old, new)) = chosen {
+                    // A unit sent elsewhere keeps the place until it leaves: the plan's other
+                    // starts may have counted on it being free.
+                    let until = if old == new { self.end_index[k] } else { Some(leaves) };
                     let family = self.families[action.schema][0];
-                    relocated.push(Place { family, values: new.clone(), from: k, until: leaves });
-                    active.push(Moved { start: k, old, new, retire });
-                    taken.push(k);
+                    if old != new {
+                        self.rename_place(task, path, (k, leaves), &old, &new);
+                        // (Kept until the move off the new place has ended too: its end names
+                        // the place it left.)
+                        let retire = self.end_index[leaves].unwrap_or(leaves);
+                        relocated.push(Place { family, values: new.clone(), from: k, until: leaves });
+                        active.push(Moved { start: k, old, new: new.clone(), retire });
+                        taken.push(k);
+                    }
+                    let reserving = until.map(|until| (until, family, new));
+                    Self::commit(task, k, step, reserving, (&mut state, &mut out), (&mut active, &mut reserved));
+                } else if holding && !pending.is_empty() {
+                    // (Its unit is not there yet: taken as the plan has it once it applies.)
+                    pending.push((k, blame(&active, &self.names[k])));
+                    continue;
+                } else {
+                    return Err(blame(&active, &self.names[k]));
+                }
+            } else if let Some(step) = self.take(task, path, k, &state, &active) {
+                let reserving = self.reserving(task, path, k, &step);
+                Self::commit(task, k, step, reserving, (&mut state, &mut out), (&mut active, &mut reserved));
+            } else if holding {
+                // A step that does not apply yet (the end of a move towards a place still
+                // taken, and what follows from it) is held back and taken as soon as it
+                // applies, after a later step; the result is valid either way, since every
+                // step taken applies in the state reached.
+                pending.push((k, blame(&active, &self.names[k])));
+                if pending.len() > RELOCATION_PENDING {
+                    return Err(pending.swap_remove(0).1);
                 }
                 continue;
-            }
-            let step = if self.applicable(task, &state, action) {
-                Some(action.clone())
             } else {
-                self.renamed(task, path, k, &state, &active)
-            };
-            let Some(step) = step else { return Err(blame(&active, &self.names[k])) };
-            let positions = chosen_positions(task, action.schema);
-            if task.schemas[action.schema].snap == Snap::Start
-                && !positions.is_empty()
-                && let Some(end) = self.end_index[k]
-            {
-                let name = successors::action_name(task, &step);
-                let values = positions.iter().map(|&p| name.args()[p].clone()).collect();
-                reserved.push((end, self.families[action.schema][0], values));
+                return Err(blame(&active, &self.names[k]));
             }
-            state = successors::apply(task, &state, &step);
-            out.push(step);
-            active.retain(|m| m.retire != k);
+            // What was held back, as soon as it applies (earlier ones first).
+            let mut progress = !pending.is_empty();
+            while progress {
+                progress = false;
+                let mut i = 0;
+                while i < pending.len() {
+                    let p = pending[i].0;
+                    let Some(step) = self.take(task, path, p, &state, &active) else {
+                        i += 1;
+                        continue;
+                    };
+                    let reserving = self.reserving(task, path, p, &step);
+                    Self::commit(task, p, step, reserving, (&mut state, &mut out), (&mut active, &mut reserved));
+                    pending.remove(i);
+                    progress = true;
+                }
+            }
+        }
+        if let Some((_, blamed)) = pending.into_iter().next() {
+            return Err(blamed);
         }
         if !successors::goal_reached(task, &state) {
             return Err(active.last().map(|m| (m.start, m.new.clone())));
         }
         Ok((out, taken))
+    }
+
+    /// Step `k` of `path` in `state` as a [`relocate`] replay takes it: as it is, else renamed
+    /// after the relocations `active` ([`Rewriter::renamed`]).
+    fn take(
+        &mut self,
+        task: &mut Task,
+        path: &[Applicable],
+        k: usize,
+        state: &State,
+        active: &[Moved],
+    ) -> Option<Applicable> {
+        if self.applicable(task, state, &path[k]) {
+            return Some(path[k].clone());
+        }
+        self.renamed(task, path, k, state, active)
+    }
+
+    /// What step `k` (taken as `step`) reserves in a [`relocate`] replay: a start's chosen
+    /// values, until its end.
+    fn reserving(
+        &self,
+        task: &Task,
+        path: &[Applicable],
+        k: usize,
+        step: &Applicable,
+    ) -> Option<(usize, usize, Vec<Term>)> {
+        let positions = chosen_positions(task, path[k].schema);
+        if task.schemas[path[k].schema].snap != Snap::Start || positions.is_empty() {
+            return None;
+        }
+        let end = self.end_index[k]?;
+        let name = successors::action_name(task, step);
+        let values = positions.iter().map(|&p| name.args()[p].clone()).collect();
+        Some((end, self.families[path[k].schema][0], values))
+    }
+
+    /// Takes plan step `k` as `step` in a [`relocate`] replay: what it reserves, the state
+    /// after it, and what it ends (the reservations it frees, the relocations it retires).
+    #[allow(clippy::type_complexity)]
+    fn commit(
+        task: &mut Task,
+        k: usize,
+        step: Applicable,
+        reserving: Option<(usize, usize, Vec<Term>)>,
+        (state, out): (&mut State, &mut Vec<Applicable>),
+        (active, reserved): (&mut Vec<Moved>, &mut Vec<(usize, usize, Vec<Term>)>),
+    ) {
+        reserved.retain(|(end, _, _)| *end != k);
+        reserved.extend(reserving);
+        *state = successors::apply(task, state, &step);
+        out.push(step);
+        active.retain(|m| m.retire != k);
+    }
+
+    /// The places starts of `path` leave from (named at a window away from their own chosen
+    /// positions, of the length of those) before any start of their family took them: what
+    /// stands there from the start (a block's first cell), until the first start that leaves
+    /// (the first of them, if several). A window that names no place (a block and a cell
+    /// together) gives a place no start ever chooses, and is never looked up.
+    fn initial_places(&self, task: &Task, path: &[Applicable], places: &[Place]) -> Vec<Place> {
+        let mut found: Vec<Place> = Vec::new();
+        for (u, action) in path.iter().enumerate() {
+            let own = chosen_positions(task, action.schema);
+            if task.schemas[action.schema].snap != Snap::Start || own.is_empty() {
+                continue;
+            }
+            let family = self.families[action.schema][0];
+            let args = self.names[u].args();
+            for p in
+                (0..=args.len().saturating_sub(own.len())).filter(|&p| (p..p + own.len()).all(|q| !own.contains(&q)))
+            {
+                let values = &args[p..p + own.len()];
+                let same = |place: &&Place| place.family == family && place.values == values;
+                let arrived = places.iter().filter(same).any(|place| place.from < u);
+                if !arrived && !found.iter().any(|place| same(&place)) {
+                    found.push(Place { family, values: values.to_vec(), from: 0, until: u });
+                }
+            }
+        }
+        found
     }
 
     /// Where each relocatable start of the plan would best leave its unit, all of them at
