@@ -753,7 +753,8 @@ fn relocations(
 /// the ladder (`kbc bench --search heuristic`, seeds 1/2/3, one run each): makespans summed
 /// 2294/2228/2309 -> 2276/2221/2301, 24 rungs shorter (build_b100_a8_s1 180 -> 174,
 /// reverse_b25_a6_s1 44 -> 42) and none longer, the time within this VM's noise (seed 1
-/// 15.5 -> 15.1 s, run in turn). As the only candidate with the schedule it made 7 rungs a
+/// 15.5 -> 15.1 s, run in turn); on the unseen seeds 4-8, 2201/2307/2263/2227/2244 ->
+/// 2187/2302/2256/2222/2237, one rung longer (reverse_b30_a6_s6 47 -> 48). As the only candidate with the schedule it made 7 rungs a
 /// unit or two longer (reverse_b10_a4_s3 28 -> 30): the greedy replay takes the places held
 /// back where the plan's own order did better. Holding back by regret too found nothing more.
 fn relocations_onto_cleared(
