@@ -342,15 +342,15 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   is released, `clear/1`), so the first block that must move in a tower ends its cycle, and
 ///   every block above it needs at least one more release after that. And the arms are few:
 ///   each block's last cycle in the tower (grip to release, on one arm) comes from another
-///   cell where the block stood (its start cell or a buffer cell), so it takes at least the
-///   least cycle into the tower's cell from one of those; of any `arms + 1`
-///   consecutive blocks from the first that moves up, two have their last cycles on one arm,
-///   the upper one's after the lower one's release (the upper is released later, and an arm
-///   does one cycle at a time). Whichever two they are, the top one of the `arms + 1` is
-///   released no earlier than the bottom one plus that least cycle (the pair's lower block is
-///   released no earlier than the bottom one, and the top one no earlier than the pair's upper
-///   one). So the last releases grow by a release a level, and by that cycle every `arms`
-///   levels.
+///   cell where the block stood: its start cell, where it is from the start, or a buffer
+///   cell, where it is only once a cycle from its start there (or a path of them, each a
+///   whole cycle) has ended. Of any `arms + 1` consecutive blocks from the first that moves
+///   up, two have their last cycles on one arm, the upper one's after the lower one's release
+///   (the upper is released later, and an arm does one cycle at a time): the upper one's last
+///   cycle starts no earlier than the lower one's last release and its time at the cell it
+///   leaves from, and the top one of the `arms + 1` is released at least a release a level
+///   after it. Whichever two they are: the top one's last release is no earlier than the
+///   least of this over the pairs (with each block's cheapest cell to leave from).
 ///
 /// When every duration the bound asks the KB for, least and greatest, is a whole number of
 /// time units (as in `std/blocks.pl` and the grid KBs), `makespan` is rounded up to a whole
@@ -628,29 +628,42 @@ impl Rung {
             .max()
             .unwrap_or(0);
         // The last cycle of a block of a goal tower comes from another cell, where the block
-        // stood: its start cell or a buffer cell. The least such cycle into the tower's cell.
-        let least_into = |cell: (usize, usize), tower: &[usize]| -> i64 {
-            let t = cells.iter().position(|&c| c == cell).expect("a cell of the table");
-            let starts: Vec<(usize, usize)> = tower.iter().map(|b| from[b].0).collect();
+        // stood: its start cell (there from the start) or a buffer cell (there once a cycle
+        // from its start at least has ended: `path`). Each such cell with that time and the
+        // least cycle from there into the tower's cell.
+        let origins = |b: usize, cell: (usize, usize)| -> Vec<(i64, i64)> {
+            let [s, t] = [from[&b].0, cell].map(|x| cells.iter().position(|&y| y == x).expect("a cell"));
             (0..n)
-                .filter(|&s| s != t && (is_buffer[s] || starts.contains(&cells[s])))
-                .map(|s| cycle[s * n + t])
-                .min()
-                .unwrap_or(0)
+                .filter(|&o| o != t && (o == s || is_buffer[o]))
+                .map(|o| (if o == s { 0 } else { path[s * n + o] }, cycle[o * n + t]))
+                .filter(|&(there, into)| there != i64::MAX && into != i64::MAX)
+                .collect()
         };
         let arms = self.arms.max(1);
         let mut chain = 0;
         for (cell, tower) in &goal {
             let Some(first) = tower.iter().position(|b| works[b] > 0) else { continue };
             // The least time of each last release, from the first block that moves up: one
-            // release after the one below, and, from the (arms + 1)th block on, a last cycle
-            // after the last release `arms` blocks below (see `LowerBound::chain`).
-            let last = least_into(*cell, tower);
-            let mut ends: Vec<i64> = vec![works[&tower[first]]];
-            for level in 1..tower.len() - first {
+            // release after the one below, and, from the (arms + 1)th block on, the least
+            // over the pairs of the arms + 1 that may share an arm of the upper one's last
+            // cycle after the lower one's last release (see `LowerBound::chain`).
+            let moving = &tower[first..];
+            let into: Vec<Vec<(i64, i64)>> = moving.iter().map(|&b| origins(b, *cell)).collect();
+            let mut ends: Vec<i64> = vec![works[&moving[0]]];
+            for level in 1..moving.len() {
                 let mut end = ends[level - 1] + release;
-                if let Some(below) = level.checked_sub(arms) {
-                    end = end.max(ends[below] + last);
+                if let Some(bottom) = level.checked_sub(arms) {
+                    let shared = (bottom..level)
+                        .flat_map(|i| (i + 1..=level).map(move |j| (i, j)))
+                        .map(|(i, j)| {
+                            let last = into[j].iter().map(|&(there, cycle)| ends[i].max(there) + cycle).min();
+                            last.map_or(i64::MAX, |last| last + (level - j) as i64 * release)
+                        })
+                        .min()
+                        .unwrap_or(i64::MAX);
+                    if shared != i64::MAX {
+                        end = end.max(shared);
+                    }
                 }
                 ends.push(end);
             }

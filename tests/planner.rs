@@ -413,6 +413,24 @@ fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_wa
 }
 
 #[test]
+fn the_chain_of_a_tower_counts_where_each_block_leaves_from_for_its_last_cycle() {
+    // build_b05_a3_s5: one tower on (1, 1), bottom up b3 (from (3, 1): a cycle of 1 + 3 + 1),
+    // b5 (from (2, 2): 5), b1 (from (4, 1): 6), b4 (from (5, 1): 7) and b2 (from (2, 1): 4),
+    // with three arms; every other cell is a buffer. The last releases are 5, 6 and 7 at
+    // least for the first three. Of b3..b4, two share an arm, the upper one's last cycle
+    // after the lower one's release: from its start cell, or from a buffer cell it reached by
+    // a cycle first (b4 reaches (2, 1) at 6 at the earliest, and goes on to (1, 1) in 4; b1
+    // (2, 1) at 5; b5 (1, 2) or (2, 1) at 4). The least over the six pairs is 10 (b3 and b4:
+    // max(5, 6) + 4; b5 and b4 the same), so b4 is released at 10 at least; of b5..b2 the
+    // least is again 10 (b5 and b2, b2 from its own cell: 6 + 4), and b2 comes a release
+    // after b4: 11. Counting only the cheapest last cycle into (1, 1) from anywhere (4) after
+    // the window's bottom release gave 10. The optimum is 12 (tests/optimum.rs).
+    let bound = bound_below_plan(Rung { family: Family::Build, blocks: 5, arms: 3, seed: 5 });
+    let unit = kbc::ir::stn::UNITS;
+    assert_eq!((bound.chain, bound.makespan), (11 * unit, 11 * unit), "{bound:?}");
+}
+
+#[test]
 fn a_cycle_of_grid_moves_costs_one_of_its_blocks_a_stop_on_a_third_cell() {
     // grid_b06_a2_s6: b1 goes to b2's cell and b2 to b1's. Whichever starts first finds its
     // goal cell taken (a move starts only towards a cell nothing stands on), so it stops on a
