@@ -898,8 +898,20 @@ fn verbose_lists_the_passes_each_command_ran_after_its_output() {
     assert_eq!(build.status.code(), Some(0));
     let passes = verbose_passes(&stderr(&build));
     let expected = [
-        "parse", "hir", "check", "task", "search", "pop", "stn", "schedule", "reassign", "relocate", "detour",
-        "relocate", "merge",
+        "parse",
+        "hir",
+        "check",
+        "task",
+        "search",
+        "pop",
+        "stn",
+        "schedule",
+        "eliminate",
+        "reassign",
+        "relocate",
+        "detour",
+        "relocate",
+        "merge",
     ];
     assert_eq!(passes[..expected.len()], expected, "{passes:?}");
     // (Detours, relocations and merges again while they gain, then the back end.)

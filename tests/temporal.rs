@@ -1013,6 +1013,43 @@ fn relocating_onto_a_cell_left_later_holds_the_move_s_end_back() {
     assert!(after < before.makespan, "{after} is no shorter than {}", before.makespan);
 }
 
+#[test]
+fn eliminating_leaves_out_a_trip_out_and_back_and_nothing_the_plan_needs() {
+    // b goes from (1, 1) to (2, 1) and c from (3, 1) to (5, 1). After c's move, the plan
+    // takes b to (4, 1) and back to (1, 1) for nothing before its move to (2, 1). Left out on
+    // trial, b's first grip takes its move and release with it, and its second grip then finds
+    // b elsewhere than the plan had it: the whole trip goes, and the state meets the plan's
+    // again after it. Nothing else goes: without c's move or b's last one the goal is not
+    // reached.
+    let cells: Vec<(i64, i64)> = (1..=5).map(|x| (x, 1)).collect();
+    let init = "ontable(b, 1, 1), clear(b), ontable(c, 3, 1), clear(c)";
+    let goal = "ontable(b, 2, 1), ontable(c, 5, 1)";
+    let mut session = one_arm_problem("trip", &cells, init, goal);
+    let steps = [
+        cycle("c", (3, 1), (5, 1)),
+        cycle("b", (1, 1), (4, 1)),
+        cycle("b", (4, 1), (1, 1)),
+        cycle("b", (1, 1), (2, 1)),
+    ]
+    .concat();
+    let plan = read_plan(&mut session, &steps);
+    let mut task = passes::task::build(session.kb(), 0);
+    let program = planner::program_for(session.kb(), 0);
+    let mut successors = planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
+    let found = planner::detour::eliminate(&mut successors, &mut task, &plan, 100_000).expect("a valid plan");
+    let span = session.kb().problems[0].span;
+    let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &found.plan, span));
+    assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
+    let moves = move_starts(&session, &found.plan);
+    assert_eq!(moves, ["move_block_start(a1, c, 3, 1, 5, 1)", "move_block_start(a1, b, 1, 1, 2, 1)"], "{moves:#?}");
+    // (The starts of b's two grips, moves and releases.)
+    assert_eq!(found.taken, [6, 8, 10, 12, 14, 16]);
+    assert_eq!(found.plan.steps.len(), 12);
+    // With no budget, nothing is tried.
+    let kept = planner::detour::eliminate(&mut successors, &mut task, &plan, 0).expect("a valid plan");
+    assert!(kept.taken.is_empty() && kept.plan == plan);
+}
+
 /// How long the moves of `timed` hold their blocks beyond their least durations, in all.
 fn move_waits(session: &Session, timed: &Timed) -> i64 {
     let no_vars = kbc::ir::hir::VarTable::default();

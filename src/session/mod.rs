@@ -1254,9 +1254,9 @@ impl Session {
         // Plans the search scored come shortest last: the last one that can be scheduled is
         // the one.
         let order: Vec<usize> = if scored { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
-        // Starts `reassign` sent aside and relocated, pairs of jobs it merged and stops it
-        // left out.
-        type Changes = (usize, usize, usize, usize);
+        // Actions `reassign` left out, starts it sent aside and relocated, pairs of jobs it
+        // merged and stops it left out.
+        type Changes = (usize, usize, usize, usize, usize);
         // (index, schedule, makespan before `reassign`, what `reassign` changed)
         let mut chosen: Option<(usize, Timed, i64, Changes)> = None;
         let mut first_failure: Option<Diagnostics> = None;
@@ -1286,10 +1286,16 @@ impl Session {
                         *plan = rearranged.plan;
                         (
                             rearranged.timed,
-                            (rearranged.detours, rearranged.relocated, rearranged.merged, rearranged.shortcuts),
+                            (
+                                rearranged.eliminated,
+                                rearranged.detours,
+                                rearranged.relocated,
+                                rearranged.merged,
+                                rearranged.shortcuts,
+                            ),
                         )
                     } else {
-                        (timed, (0, 0, 0, 0))
+                        (timed, (0, 0, 0, 0, 0))
                     };
                     let better =
                         chosen.as_ref().is_none_or(|(_, best, _, _)| timed.schedule.makespan < best.schedule.makespan);
@@ -1324,7 +1330,10 @@ impl Session {
         if timed.schedule.makespan < searched {
             let searched = crate::ir::stn::format_time(searched);
             origin = format!("{origin}, jobs reassigned from a makespan of {searched}");
-            let (detours, relocated, merged, shortcuts) = sent;
+            let (eliminated, detours, relocated, merged, shortcuts) = sent;
+            if eliminated > 0 {
+                origin = format!("{origin}, {} left out", crate::diag::plural(eliminated, "unneeded action"));
+            }
             if relocated > 0 {
                 origin = format!("{origin}, {} relocated", crate::diag::plural(relocated, "start"));
             }
