@@ -922,21 +922,33 @@ pub struct ReassignedMakespan<'a> {
     pub(crate) best: Option<(crate::ir::plan::Plan, Rearranged)>,
     /// What the passes made of the plans given them so far.
     pub(crate) memo: Memo,
+    /// The longest one scoring took (a restart's passes take about as long).
+    pub(crate) longest: std::time::Duration,
 }
 
 impl<'a> ReassignedMakespan<'a> {
     /// A scorer for plans of the problem whose `program` is given, with nothing scored yet.
     pub fn new(kb: &'a Kb, interner: &'a Interner, program: &'a crate::engine::Program, epsilon: i64) -> Self {
-        ReassignedMakespan { kb, interner, program, epsilon, best: None, memo: Memo::default() }
+        ReassignedMakespan {
+            kb,
+            interner,
+            program,
+            epsilon,
+            best: None,
+            memo: Memo::default(),
+            longest: std::time::Duration::ZERO,
+        }
     }
 }
 
 impl crate::planner::Score for ReassignedMakespan<'_> {
     fn score(&mut self, task: &mut crate::ir::task::Task, plan: &crate::ir::plan::Plan) -> Option<i64> {
+        let begun = std::time::Instant::now();
         let timed = schedule(self.kb, self.interner, self.program, plan, None, self.epsilon, &mut Diagnostics::new())?;
         let (kb, interner, program) = (self.kb, self.interner, self.program);
         // (The scorer runs while improving: thorough.)
         let rearranged = reassign(kb, interner, program, task, (plan.clone(), timed), Moves::All, true, &mut self.memo);
+        self.longest = self.longest.max(begun.elapsed());
         let makespan = rearranged.timed.schedule.makespan;
         if self.best.as_ref().is_none_or(|(_, best)| makespan < best.timed.schedule.makespan) {
             self.best = Some((plan.clone(), rearranged));
