@@ -876,8 +876,9 @@ impl Session {
     /// the second search as the first was, until the improvement's time is over or the
     /// searches have expanded `settings.max_states` states in all (`spent` by the first); the
     /// shortest schedule is kept (the first among equals). A restart begins only while the
-    /// time left is at least what the last one took, and one whose search ends with the time
-    /// up is not scheduled. The improvement's time is its share
+    /// time left is at least what the last one took (the first: `restart`, the first search's
+    /// time to its first plan and its scorer's longest), and one whose search ends with the
+    /// time up is not scheduled. The improvement's time is its share
     /// of `--improve`, or what the first search's improving (`improving`: it scores each plan
     /// it finds with the passes, and overruns its own share by up to one plan's passes) left
     /// of the whole if less.
