@@ -886,6 +886,19 @@ fn relocating_a_block_aside_twice_moves_it_on_from_where_it_was_relocated() {
     assert!(kept.schedule.makespan < before, "{} is no shorter than {before}", kept.schedule.makespan);
 }
 
+/// A move's least duration, as std/blocks.pl gives it (the distance and one), for the
+/// relocations' `cost` (the action index unused: every move is one action).
+fn least_move_duration(_: usize, name: &kbc::ir::hir::Term) -> i64 {
+    let cells: Vec<i64> = name.args()[2..]
+        .iter()
+        .filter_map(|t| match t {
+            kbc::ir::hir::Term::Int(v) => Some(*v),
+            _ => None,
+        })
+        .collect();
+    ((cells[0] - cells[2]).abs() + (cells[1] - cells[3]).abs() + 1) * kbc::ir::stn::UNITS
+}
+
 #[test]
 fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() {
     // One row of seven cells: p and q trade cells 1 and 2, r and s cells 4 and 5; cells 3, 6
@@ -910,17 +923,7 @@ fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() 
     ]
     .concat();
     let plan = read_plan(&mut session, &steps);
-    // Each move's least duration, as std/blocks.pl gives it: the distance and one.
-    let mut cost = |_: usize, name: &kbc::ir::hir::Term| -> i64 {
-        let cells: Vec<i64> = name.args()[2..]
-            .iter()
-            .filter_map(|t| match t {
-                kbc::ir::hir::Term::Int(v) => Some(*v),
-                _ => None,
-            })
-            .collect();
-        ((cells[0] - cells[2]).abs() + (cells[1] - cells[3]).abs() + 1) * kbc::ir::stn::UNITS
-    };
+    let mut cost = least_move_duration;
     let mut relocated = |placing: planner::detour::Placing| -> Vec<String> {
         let mut task = passes::task::build(session.kb(), 0);
         let program = planner::program_for(session.kb(), 0);
@@ -982,16 +985,7 @@ fn relocating_onto_a_cell_left_later_holds_the_move_s_end_back() {
     let plan = read_plan(&mut session, &steps);
     let before = timed(&mut session, &plan).schedule;
     let waits = vec![0; plan.steps.len()];
-    let mut cost = |_: usize, name: &kbc::ir::hir::Term| -> i64 {
-        let cells: Vec<i64> = name.args()[2..]
-            .iter()
-            .filter_map(|t| match t {
-                kbc::ir::hir::Term::Int(v) => Some(*v),
-                _ => None,
-            })
-            .collect();
-        ((cells[0] - cells[2]).abs() + (cells[1] - cells[3]).abs() + 1) * kbc::ir::stn::UNITS
-    };
+    let mut cost = least_move_duration;
     let mut relocated = |hold_back: bool| {
         let mut task = passes::task::build(session.kb(), 0);
         let program = planner::program_for(session.kb(), 0);

@@ -1,66 +1,9 @@
 % Logistics: 6 cities of 5 places and an airport, a truck in each city, 3 planes,
-% 40 packages. Trucks drive inside a city, planes fly between airports; both load and unload.
+% 40 packages, for logistics_domain.pl (kbc plan logistics_domain.pl logistics_c6_t6_p3_k40.pl).
 city_of(l1_1, c1). city_of(l1_2, c1). city_of(l1_3, c1). city_of(l1_4, c1). city_of(l1_5, c1). city_of(a1, c1). city_of(l2_1, c2). city_of(l2_2, c2). city_of(l2_3, c2). city_of(l2_4, c2). city_of(l2_5, c2). city_of(a2, c2). city_of(l3_1, c3). city_of(l3_2, c3). city_of(l3_3, c3). city_of(l3_4, c3). city_of(l3_5, c3). city_of(a3, c3). city_of(l4_1, c4). city_of(l4_2, c4). city_of(l4_3, c4). city_of(l4_4, c4). city_of(l4_5, c4). city_of(a4, c4). city_of(l5_1, c5). city_of(l5_2, c5). city_of(l5_3, c5). city_of(l5_4, c5). city_of(l5_5, c5). city_of(a5, c5). city_of(l6_1, c6). city_of(l6_2, c6). city_of(l6_3, c6). city_of(l6_4, c6). city_of(l6_5, c6). city_of(a6, c6).
 airport(a1). airport(a2). airport(a3). airport(a4). airport(a5). airport(a6).
 truck(t1). truck(t2). truck(t3). truck(t4). truck(t5). truck(t6).
 plane(p1). plane(p2). plane(p3).
-vehicle(V) :- truck(V).
-vehicle(V) :- plane(V).
-
-action(drive_start(T, From, To),
-    [idle(T), at(T, From)],
-    [],
-    [],
-    [truck(T), city_of(From, C), city_of(To, C), From \== To],
-    [del(idle(T)), del(at(T, From))]).
-action(drive_end(T, _From, To),
-    [],
-    [],
-    [],
-    [],
-    [add(at(T, To)), add(idle(T))]).
-action(fly_start(P, From, To),
-    [idle(P), at(P, From)],
-    [],
-    [],
-    [plane(P), airport(To), From \== To],
-    [del(idle(P)), del(at(P, From))]).
-action(fly_end(P, _From, To),
-    [],
-    [],
-    [],
-    [],
-    [add(at(P, To)), add(idle(P))]).
-action(load_start(V, Pkg, L),
-    [idle(V), at(V, L), pkg_at(Pkg, L)],
-    [],
-    [],
-    [vehicle(V)],
-    [del(idle(V)), del(pkg_at(Pkg, L))]).
-action(load_end(V, Pkg, _L),
-    [],
-    [],
-    [],
-    [],
-    [add(in(Pkg, V)), add(idle(V))]).
-action(unload_start(V, Pkg, L),
-    [idle(V), at(V, L), in(Pkg, V)],
-    [],
-    [],
-    [vehicle(V)],
-    [del(idle(V)), del(in(Pkg, V))]).
-action(unload_end(V, Pkg, L),
-    [],
-    [],
-    [],
-    [],
-    [add(pkg_at(Pkg, L)), add(idle(V))]).
-
-duration(drive(_, _, _), 3, 6).
-duration(fly(_, _, _), 5, 8).
-duration(load(_, _, _), 1, 2).
-duration(unload(_, _, _), 1, 2).
-resources(idle(_)).
 
 deliver :- go(
   [ idle(t1),
