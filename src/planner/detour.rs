@@ -169,10 +169,10 @@ const ELIMINATION_CASCADE: usize = 8;
 
 /// How many steps after the last one it left out an [`eliminate`] trial replays without
 /// coming back to the plan's own state before it gives the trial up. Measured on the same
-/// logistics KB: 16, 662 -> 535; 32, -> 469; 64, -> 436, in 0.08, 0.13 and 0.16 s; on
-/// reverse_b100_a8_s1, where nothing goes, 42-71 ms, most of it the OnKB answers the later
-/// passes would have asked for anyway (the whole run 1.14 s without the pass and 1.15 s with
-/// it, `perf stat -r 6`).
+/// logistics KB with 8 actions a trial: 32, 662 -> 469 in 0.13 s; 64, -> 436 in 0.16 s (16,
+/// before the limit of actions: 535 in 0.08 s). On reverse_b100_a8_s1, where nothing goes,
+/// 55-71 ms, most of it the OnKB answers the later passes would have asked for anyway (the
+/// whole run 1.14 s without the pass and 1.15 s with it, `perf stat -r 6`).
 const ELIMINATION_WINDOW: usize = 64;
 
 /// `plan` without the actions it can do without (greedy action elimination, as Fink and
@@ -196,12 +196,6 @@ pub fn eliminate(
 ) -> Result<Rewritten, Failure> {
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let n = path.len();
-    let mut start_of = vec![None; n];
-    for (start, end) in rewriter.end_index.iter().enumerate() {
-        if let Some(end) = *end {
-            start_of[end] = Some(start);
-        }
-    }
     // The plan's states before each step (and at the end), the plan as `kept`, from step
     // `from` on (`states[..=from]` as they were).
     let replay =
@@ -230,7 +224,7 @@ pub fn eliminate(
     let mut replayed = 0usize;
     let mut taken = Vec::new();
     for k in 0..n {
-        if !kept[k] || start_of[k].is_some() || replayed >= budget {
+        if !kept[k] || rewriter.start_index[k].is_some() || replayed >= budget {
             continue;
         }
         let mut trial = kept.clone();
@@ -264,7 +258,7 @@ pub fn eliminate(
                 state = successors::apply(task, &state, &path[j]);
                 continue;
             }
-            if start_of[j].is_some() {
+            if rewriter.start_index[j].is_some() {
                 break; // an end whose start was kept
             }
             trial[j] = false;
@@ -283,7 +277,7 @@ pub fn eliminate(
             if !replay(&mut rewriter, task, &trial, &mut states, k) {
                 continue;
             }
-            taken.extend((0..n).filter(|&j| kept[j] && !trial[j] && start_of[j].is_none()));
+            taken.extend((0..n).filter(|&j| kept[j] && !trial[j] && rewriter.start_index[j].is_none()));
             (kept, before) = (trial, states);
         }
     }
@@ -1045,18 +1039,12 @@ pub fn merge(
         skip: vec![false; path.len()],
         at_first: FxHashMap::default(),
         at_end: FxHashMap::default(),
-        start_of: FxHashMap::default(),
         started: FxHashMap::default(),
         renamed: FxHashMap::default(),
         active: Vec::new(),
         state: task.init.clone(),
         out: Vec::with_capacity(path.len()),
     };
-    for (start, end) in replay.rewriter.end_index.iter().enumerate() {
-        if let Some(end) = end {
-            replay.start_of.insert(*end, start);
-        }
-    }
     for (m, merge) in merges.iter().enumerate() {
         let ends = (replay.rewriter.end_index[merge.first], replay.rewriter.end_index[merge.second]);
         let jobs_of = (jobs.job_of(merge.first), jobs.job_of(merge.second));
@@ -1197,12 +1185,6 @@ pub fn shortcut(
         under.push((source, end));
         first_of.insert(cut.first, s);
     }
-    let mut start_of: FxHashMap<usize, usize> = FxHashMap::default();
-    for (start, end) in rewriter.end_index.iter().enumerate() {
-        if let Some(end) = end {
-            start_of.insert(*end, start);
-        }
-    }
     // Starts taken otherwise than the plan has them, by index.
     let mut started: FxHashMap<usize, Applicable> = FxHashMap::default();
     let mut active: Vec<(usize, Vec<Term>)> = Vec::new();
@@ -1218,7 +1200,7 @@ pub fn shortcut(
         if skip[k] {
             continue;
         }
-        let step = match start_of.get(&k).and_then(|s| started.get(s)) {
+        let step = match rewriter.start_index[k].and_then(|s| started.get(&s)) {
             Some(start) => {
                 let start = start.clone();
                 rewriter.end_of(task, &start, action, &state)
@@ -1259,8 +1241,6 @@ struct MergeReplay<'s, 'p, 'a> {
     at_first: FxHashMap<usize, usize>,
     /// The merge whose second start's end each step is.
     at_end: FxHashMap<usize, usize>,
-    /// For each end of the plan, its start.
-    start_of: FxHashMap<usize, usize>,
     /// The starts taken otherwise than the plan has them (renamed or merged), as taken.
     started: FxHashMap<usize, Applicable>,
     /// The unit each renamed job names instead of its own.
@@ -1294,7 +1274,7 @@ impl MergeReplay<'_, '_, '_> {
             None => original.clone(),
         };
         // An end names the running start: as taken.
-        if let Some(start) = self.start_of.get(&k).and_then(|s| self.started.get(s)) {
+        if let Some(start) = self.rewriter.start_index[k].and_then(|s| self.started.get(&s)) {
             let Task { schemas, consts, .. } = task;
             step.ends = successors::running_instance(&schemas[start.schema], consts, &start.bindings);
         }
@@ -1422,6 +1402,8 @@ struct Rewriter<'s, 'p> {
     names: Vec<Term>,
     /// For each start of the original plan, the index of its end.
     end_index: Vec<Option<usize>>,
+    /// For each end of the original plan, the index of its start (`end_index` inverted).
+    start_index: Vec<Option<usize>>,
     families: Vec<Vec<usize>>,
     scratch: Vec<Applicable>,
 }
@@ -1438,10 +1420,18 @@ impl<'s, 'p> Rewriter<'s, 'p> {
         if path.len() != plan.steps.len() {
             return Err(Failure::Plan);
         }
+        let end_index = end_index(task, &path);
+        let mut start_index = vec![None; path.len()];
+        for (start, end) in end_index.iter().enumerate() {
+            if let Some(end) = *end {
+                start_index[end] = Some(start);
+            }
+        }
         let rewriter = Rewriter {
             successors,
             names: path.iter().map(|a| successors::action_name(task, a)).collect(),
-            end_index: end_index(task, &path),
+            end_index,
+            start_index,
             families: families(task),
             scratch: Vec::new(),
         };

@@ -248,6 +248,9 @@ pub struct Searched {
     pub plans: Vec<Plan>,
     /// What the search did.
     pub stats: Stats,
+    /// The longest its scorer took on one plan (the passes), while improving; zero when it
+    /// scored none.
+    pub scoring: Duration,
 }
 
 /// Why a search found no plan.
@@ -405,8 +408,6 @@ pub struct Session {
     /// (`temporal::ReassignedMakespan`), for [`Session::schedule_best`] to take rather than
     /// run the passes on it again.
     reassigned: Option<(Plan, temporal::Rearranged)>,
-    /// The longest the last search's scorer took on one plan (its passes), while improving.
-    scoring: Duration,
     /// What the passes `reassign` runs made of the plans given them (`temporal::Memo`), for
     /// the plans the same `plan` gives them again; dropped when `plan` ends.
     memo: temporal::Memo,
@@ -455,7 +456,6 @@ impl Session {
             prepared: None,
             plans: Vec::new(),
             reassigned: None,
-            scoring: Duration::ZERO,
             memo: temporal::Memo::default(),
             arm_problems: Vec::new(),
             groundings: Vec::new(),
@@ -659,7 +659,7 @@ impl Session {
             },
         );
         self.memo = scorer.memo;
-        self.scoring = scorer.longest;
+        let scoring = scorer.longest;
         if let Some(best) = scorer.best {
             self.reassigned = Some(best);
         }
@@ -670,7 +670,7 @@ impl Session {
                 for plan in &plans {
                     verify_after("search", || plan::verify(kb, plan));
                 }
-                Ok(Rc::new(Searched { plans, stats: outcome.stats }))
+                Ok(Rc::new(Searched { plans, stats: outcome.stats, scoring }))
             }
             Err(failure) => Err(Rc::new(SearchFailed { failure, stats: outcome.stats, problem, groundings_tried: 1 })),
         };
@@ -755,9 +755,10 @@ impl Session {
         if let Some((_, _, planned)) = self.plans.iter().find(|(p, s, _)| *p == problem && s == settings) {
             return Ok(planned.clone());
         }
-        let (plans, origin, stats) = match settings.plan_file {
+        let (plans, origin, stats, scoring) = match settings.plan_file {
             Some(file) => {
-                (vec![self.read_plan(problem, file)?], format!("plan file {}", self.db.file(file).name()), None)
+                let origin = format!("plan file {}", self.db.file(file).name());
+                (vec![self.read_plan(problem, file)?], origin, None, Duration::ZERO)
             }
             None => match self.search(problem, settings, progress) {
                 Ok(searched) => {
@@ -765,7 +766,7 @@ impl Session {
                         SearchKind::Paper => "paper search",
                         SearchKind::Heuristic => "heuristic search",
                     };
-                    (searched.plans.clone(), origin.to_string(), Some(searched.stats))
+                    (searched.plans.clone(), origin.to_string(), Some(searched.stats), searched.scoring)
                 }
                 Err(failed) => {
                     self.plan_ended();
@@ -785,7 +786,7 @@ impl Session {
         // the passes on its plan, as long as the scorer's longest.)
         let restart = stats.map_or(Duration::ZERO, |s| {
             let setup = if s.setup_kept { Duration::ZERO } else { s.setup };
-            s.first_found.unwrap_or(s.elapsed).saturating_sub(setup) + self.scoring
+            s.first_found.unwrap_or(s.elapsed).saturating_sub(setup) + scoring
         });
         let planned = self.second_search(problem, ground, planned, settings, progress);
         let planned = Rc::new(self.restarts(
@@ -1267,11 +1268,8 @@ impl Session {
         // Plans the search scored come shortest last: the last one that can be scheduled is
         // the one.
         let order: Vec<usize> = if scored { (0..plans.len()).rev().collect() } else { (0..plans.len()).collect() };
-        // Actions `reassign` left out, starts it sent aside and relocated, pairs of jobs it
-        // merged and stops it left out.
-        type Changes = (usize, usize, usize, usize, usize);
         // (index, schedule, makespan before `reassign`, what `reassign` changed)
-        let mut chosen: Option<(usize, Timed, i64, Changes)> = None;
+        let mut chosen: Option<(usize, Timed, i64, temporal::Changes)> = None;
         let mut first_failure: Option<Diagnostics> = None;
         for index in order {
             let plan = &mut plans[index];
@@ -1297,18 +1295,9 @@ impl Session {
                             ),
                         };
                         *plan = rearranged.plan;
-                        (
-                            rearranged.timed,
-                            (
-                                rearranged.eliminated,
-                                rearranged.detours,
-                                rearranged.relocated,
-                                rearranged.merged,
-                                rearranged.shortcuts,
-                            ),
-                        )
+                        (rearranged.timed, rearranged.changes)
                     } else {
-                        (timed, (0, 0, 0, 0, 0))
+                        (timed, temporal::Changes::default())
                     };
                     let better =
                         chosen.as_ref().is_none_or(|(_, best, _, _)| timed.schedule.makespan < best.schedule.makespan);
@@ -1343,7 +1332,7 @@ impl Session {
         if timed.schedule.makespan < searched {
             let searched = crate::ir::stn::format_time(searched);
             origin = format!("{origin}, jobs reassigned from a makespan of {searched}");
-            let (eliminated, detours, relocated, merged, shortcuts) = sent;
+            let temporal::Changes { eliminated, detours, relocated, merged, shortcuts } = sent;
             if eliminated > 0 {
                 origin = format!("{origin}, {} left out", crate::diag::plural(eliminated, "unneeded action"));
             }

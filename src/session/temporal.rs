@@ -203,7 +203,8 @@ pub(crate) fn reassign(
         _ => (plan, timed, 0),
     };
     let varied = reassign_with(&mut cx, (plan, timed), moves, Rules::WithVariants(REASSIGN_VARIANTS));
-    let Some((plan, timed)) = again else { return Rearranged { eliminated, ..varied } };
+    let with_eliminated = |kept: Rearranged| Rearranged { changes: Changes { eliminated, ..kept.changes }, ..kept };
+    let Some((plan, timed)) = again else { return with_eliminated(varied) };
     let before = varied.timed.schedule.makespan;
     let fixed = super::timing::time(
         "fixed rules",
@@ -211,7 +212,7 @@ pub(crate) fn reassign(
         |fixed| change(before, before.min(fixed.timed.schedule.makespan)),
     );
     let kept = if fixed.timed.schedule.makespan < varied.timed.schedule.makespan { fixed } else { varied };
-    Rearranged { eliminated, ..kept }
+    with_eliminated(kept)
 }
 
 /// Plans of at most so many steps [`reassign`] rearranges both with and without the variants
@@ -245,18 +246,18 @@ fn reassign_with(
         (plan, timed, 0)
     });
     if moves == Moves::Jobs {
-        return Rearranged { plan, timed, eliminated: 0, detours: 0, relocated: 0, merged: 0, shortcuts: 0 };
+        return Rearranged { plan, timed, changes: Changes::default() };
     }
     if moves == Moves::Shortcuts {
         let (plan, timed, cut) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
-        return Rearranged { plan, timed, eliminated: 0, detours: 0, relocated: 0, merged: 0, shortcuts: cut };
+        return Rearranged { plan, timed, changes: Changes { shortcuts: cut, ..Changes::default() } };
     }
     // Relocating before the detours gives them shorter moves to work from; after them, the
     // places they chose are relocated in turn.
     let relocation = ("relocate", "starts relocated", relocations as Step);
     let (plan, timed, relocated) = pass(cx, relocation, (plan, timed));
     if moves == Moves::Relocations {
-        return Rearranged { plan, timed, eliminated: 0, detours: 0, relocated, merged: 0, shortcuts: 0 };
+        return Rearranged { plan, timed, changes: Changes { relocated, ..Changes::default() } };
     }
     let (mut plan, mut timed) = (plan, timed);
     let (mut sent, mut relocated, mut merged, mut cut) = (0, relocated, 0, 0);
@@ -290,7 +291,8 @@ fn reassign_with(
         relocated += again;
         (plan, timed, _) = pass(cx, ("polish", "rounds kept", polish), (plan, timed));
     }
-    Rearranged { plan, timed, eliminated: 0, detours: sent, relocated, merged, shortcuts: cut }
+    let changes = Changes { eliminated: 0, detours: sent, relocated, merged, shortcuts: cut };
+    Rearranged { plan, timed, changes }
 }
 
 /// A pass's makespan before and after, for `-v`.
@@ -404,6 +406,13 @@ pub(crate) struct Rearranged {
     pub plan: crate::ir::plan::Plan,
     /// Its schedule.
     pub timed: Timed,
+    /// What the passes changed to get there.
+    pub changes: Changes,
+}
+
+/// What [`reassign`]'s passes changed in the plan it kept, for the schedule's header.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Changes {
     /// How many actions it left out ([`crate::planner::detour::eliminate`]).
     pub eliminated: usize,
     /// How many held starts it sent aside.
@@ -736,12 +745,13 @@ fn least_duration<'p>(kb: &'p Kb, program: &'p crate::engine::Program) -> impl F
 }
 
 /// How many steps [`eliminations`] replays at most, in all its trials (reverse_b100_a8_s1,
-/// 1200 steps: about 10,600 replayed, nothing left out).
+/// 1200 steps: 14,886 replayed, nothing left out; logistics_c5_t5_p2_k30, 1784 steps: 32,619,
+/// 557 actions left out).
 const ELIMINATION_BUDGET: usize = 400_000;
 
 /// The eliminating step of [`reassign`]: the plan without the actions it can do without
 /// ([`crate::planner::detour::eliminate`]), scheduled, kept when its makespan is no longer
-/// (it does less work); with how many steps were left out.
+/// (it does less work); with how many actions were left out.
 fn eliminations(
     cx: &mut Rearranging<'_, '_>,
     (plan, timed): (crate::ir::plan::Plan, Timed),
@@ -784,9 +794,10 @@ fn relocations(
 /// 2294/2228/2309 -> 2276/2221/2301, 24 rungs shorter (build_b100_a8_s1 180 -> 174,
 /// reverse_b25_a6_s1 44 -> 42) and none longer, the time within this VM's noise (seed 1
 /// 15.5 -> 15.1 s, run in turn); on the unseen seeds 4-8, 2201/2307/2263/2227/2244 ->
-/// 2187/2302/2256/2222/2237, one rung longer (reverse_b30_a6_s6 47 -> 48). As the only candidate with the schedule it made 7 rungs a
-/// unit or two longer (reverse_b10_a4_s3 28 -> 30): the greedy replay takes the places held
-/// back where the plan's own order did better. Holding back by regret too found nothing more.
+/// 2187/2302/2256/2222/2237, one rung longer (reverse_b30_a6_s6 47 -> 48). As the only
+/// candidate with the schedule it made 7 rungs a unit or two longer (reverse_b10_a4_s3 28 ->
+/// 30): the greedy replay takes the places held back where the plan's own order did better.
+/// Holding back by regret too found nothing more.
 fn relocations_onto_cleared(
     cx: &mut Rearranging<'_, '_>,
     planned: (crate::ir::plan::Plan, Timed),
