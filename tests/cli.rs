@@ -342,7 +342,7 @@ fn replans_after_a_fault_are_reassigned_too() {
 fn reassigned_schedules_say_so_and_validate() {
     // (A rung whose plan is the first search's: where a second search with the lookahead is
     // kept, `--no-reassign`, which runs no second search, schedules another plan.)
-    let rung = Rung::write("reverse_b08_a3_s1", "reassign");
+    let rung = Rung::write("reverse_b10_a4_s1", "reassign");
     let kb = rung.kb.as_str();
     let reassigned = kbc(&["plan", kb, "--schedule"]);
     let kept = kbc(&["plan", kb, "--schedule", "--no-reassign"]);
