@@ -103,10 +103,19 @@ const POLISH_ROUNDS: usize = 4;
 /// How many variants ([`Rules::Variants`]) [`polish`] simulates each time.
 const POLISH_VARIANTS: u64 = 8;
 
-/// How many times [`reassign`] rearranges a plan with detours before it is compared with
-/// the plan without them. (One round gave the same makespans as four on the ladder's 30 to
-/// 100 block rungs, in three quarters of the time.)
-const DETOUR_REASSIGN_ROUNDS: usize = 1;
+/// How many times [`reassign`] rearranges a plan with detours (or merges, shortcuts, actions
+/// left out: [`keep_shorter`]) before it is compared with the plan without them. (One round
+/// gave the same makespans as four on the ladder's 30 to 100 block rungs, in three quarters
+/// of the time, before the backward rules of `passes::reassign`; with them a second round
+/// gains: `kbc bench --search heuristic`, seeds 1/5, makespans summed 2193/2210 ->
+/// 2160/2186, 22 rungs shorter and 4 longer, in 8% more time; swap_b100_a8_s1 228 -> 208.)
+const DETOUR_REASSIGN_ROUNDS: usize = 2;
+
+/// How many times [`reassign`] rearranges a plan with relocations before it is compared with
+/// the plan without them. (Two, as for the detours, gained less for more time: seeds 1/5
+/// 2193/2210 -> 2184/2206, 18 rungs shorter and 5 longer; both at two, 2157/2180 in 20% more
+/// time than one.)
+const RELOCATION_REASSIGN_ROUNDS: usize = 1;
 
 /// How many times [`reassign`] sends held starts aside in a plan it has just improved.
 const DETOUR_ROUNDS: usize = 4;
@@ -847,7 +856,7 @@ fn relocated(
         let Some(scheduled) = schedule(kb, interner, program, &found.plan, None, timed.stn.epsilon, &mut diags) else {
             continue;
         };
-        let (relocated, scheduled) = rearrange(cx, (found.plan, scheduled), DETOUR_REASSIGN_ROUNDS, Rules::Fixed);
+        let (relocated, scheduled) = rearrange(cx, (found.plan, scheduled), RELOCATION_REASSIGN_ROUNDS, Rules::Fixed);
         let shortest = best.as_ref().map_or(timed.schedule.makespan, |(_, kept, _)| kept.schedule.makespan);
         if scheduled.schedule.makespan < shortest {
             best = Some((relocated, scheduled, found.taken.len()));
