@@ -975,8 +975,8 @@ mod tests {
             assert_schedule(&problem, &schedule);
             assert!(makespan(&schedule) >= 11, "{rule:?}: {schedule:?}");
         }
-        // Backwards, D is laid out from the end with C before it, and A and B on the other
-        // unit: 9, the least there is (18 units of work on two units).
+        // Backwards, D is laid out from the end with B before it on one unit, and A with C
+        // before it on the other: 9, the least there is (18 units of work on two units).
         let urgent = Rule { backward: true, ..RULES[0] };
         let schedule = simulated(&problem, &mut reversed, urgent).expect("a schedule");
         assert_schedule(&problem, &schedule);
