@@ -269,25 +269,25 @@ fn reassign_with(
         return Rearranged { plan, timed, changes: Changes { relocated, ..Changes::default() } };
     }
     let (mut plan, mut timed) = (plan, timed);
-    let (mut sent, mut relocated, mut merged, mut cut) = (0, relocated, 0, 0);
+    let mut changes = Changes { relocated, ..Changes::default() };
     for _ in 0..CYCLES {
         let start = timed.schedule.makespan;
         let (aside, again, joined, taken);
         (plan, timed, aside) = pass(cx, ("detour", "starts sent aside", detours), (plan, timed));
-        sent += aside;
+        changes.detours += aside;
         (plan, timed, again) = pass(cx, relocation, (plan, timed));
-        relocated += again;
+        changes.relocated += again;
         if moves == Moves::Detours {
             break;
         }
         (plan, timed, joined) = pass(cx, ("merge", "jobs merged", merges), (plan, timed));
-        merged += joined;
+        changes.merged += joined;
         // (Only one way: a shortcut kept early can leave the later passes less to do, and
         // the way without them keeps their path. Measured with shortcuts both ways:
         // build_b50_a8_s3 60 -> 66, where `cleared` found nothing after them.)
         if first != Rules::Fixed {
             (plan, timed, taken) = pass(cx, ("shortcut", "shortcuts taken", shortcuts), (plan, timed));
-            cut += taken;
+            changes.shortcuts += taken;
         }
         if start - timed.schedule.makespan <= start / CYCLE_GAIN {
             break;
@@ -297,10 +297,9 @@ fn reassign_with(
         let cleared = ("cleared", "starts relocated onto places being cleared", relocations_onto_cleared as Step);
         let again;
         (plan, timed, again) = pass(cx, cleared, (plan, timed));
-        relocated += again;
+        changes.relocated += again;
         (plan, timed, _) = pass(cx, ("polish", "rounds kept", polish), (plan, timed));
     }
-    let changes = Changes { eliminated: 0, detours: sent, relocated, merged, shortcuts: cut };
     Rearranged { plan, timed, changes }
 }
 
@@ -560,7 +559,7 @@ fn detours(
                 Ok(Some((found.plan, count)))
             });
             if let Some(rewritten) = rewritten {
-                keep_shorter(cx, timed, rewritten, best);
+                keep_shorter(cx, timed, rewritten, best, DETOUR_REASSIGN_ROUNDS);
             }
         }
     })
@@ -619,20 +618,21 @@ fn retried<C>(
     None
 }
 
-/// A rewritten plan (with how many changes it made), scheduled and reassigned, kept in `best`
-/// when shorter than `best` (else than `timed`, the plan's).
+/// A rewritten plan (with how many changes it made), scheduled and reassigned (`rounds` at
+/// most), kept in `best` when shorter than `best` (else than `timed`, the plan's).
 fn keep_shorter(
     cx: &mut Rearranging<'_, '_>,
     timed: &Timed,
     (rewritten, count): (crate::ir::plan::Plan, usize),
     best: &mut Option<(crate::ir::plan::Plan, Timed, usize)>,
+    rounds: usize,
 ) {
     let mut diags = Diagnostics::new();
     let Some(scheduled) = schedule(cx.kb, cx.interner, cx.program, &rewritten, None, timed.stn.epsilon, &mut diags)
     else {
         return;
     };
-    let (rewritten, scheduled) = rearrange(cx, (rewritten, scheduled), DETOUR_REASSIGN_ROUNDS, Rules::Fixed);
+    let (rewritten, scheduled) = rearrange(cx, (rewritten, scheduled), rounds, Rules::Fixed);
     let shortest = best.as_ref().map_or(timed.schedule.makespan, |(_, t, _)| t.schedule.makespan);
     if scheduled.schedule.makespan < shortest {
         *best = Some((rewritten, scheduled, count));
@@ -686,7 +686,7 @@ fn merges(
                 Ok((count > 0).then_some((found.plan, count)))
             });
             if let Some(rewritten) = rewritten {
-                keep_shorter(cx, timed, rewritten, best);
+                keep_shorter(cx, timed, rewritten, best, DETOUR_REASSIGN_ROUNDS);
             }
         }
     })
@@ -735,7 +735,7 @@ fn shortcuts(
             Ok((count > 0).then_some((found.plan, count)))
         });
         if let Some(rewritten) = rewritten {
-            keep_shorter(cx, timed, rewritten, best);
+            keep_shorter(cx, timed, rewritten, best, DETOUR_REASSIGN_ROUNDS);
         }
     })
 }
@@ -822,7 +822,7 @@ fn relocated(
     (plan, timed): (crate::ir::plan::Plan, Timed),
     onto_cleared: bool,
 ) -> (crate::ir::plan::Plan, Timed, usize) {
-    let (kb, interner, program) = (cx.kb, cx.interner, cx.program);
+    let (kb, program) = (cx.kb, cx.program);
     let mut cost = least_duration(kb, program);
     let waits = waits(&plan, &timed);
     let times: &[i64] = match onto_cleared {
@@ -852,15 +852,8 @@ fn relocated(
             continue;
         }
         seen.push(found.plan.clone());
-        let mut diags = Diagnostics::new();
-        let Some(scheduled) = schedule(kb, interner, program, &found.plan, None, timed.stn.epsilon, &mut diags) else {
-            continue;
-        };
-        let (relocated, scheduled) = rearrange(cx, (found.plan, scheduled), RELOCATION_REASSIGN_ROUNDS, Rules::Fixed);
-        let shortest = best.as_ref().map_or(timed.schedule.makespan, |(_, kept, _)| kept.schedule.makespan);
-        if scheduled.schedule.makespan < shortest {
-            best = Some((relocated, scheduled, found.taken.len()));
-        }
+        let count = found.taken.len();
+        keep_shorter(cx, &timed, (found.plan, count), &mut best, RELOCATION_REASSIGN_ROUNDS);
     }
     best.unwrap_or((plan, timed, 0))
 }
