@@ -903,6 +903,18 @@ fn least_move_duration(_: usize, name: &kbc::ir::hir::Term) -> i64 {
     ((cells[0] - cells[2]).abs() + (cells[1] - cells[3]).abs() + 1) * kbc::ir::stn::UNITS
 }
 
+/// `rewrite` (a function of `planner::detour`) run on a task of `session`'s problem built
+/// afresh, with a generator of its applicable actions.
+fn rewritten<R>(
+    session: &Session,
+    rewrite: impl FnOnce(&mut planner::successors::Successors<'_>, &mut kbc::ir::task::Task) -> R,
+) -> R {
+    let mut task = passes::task::build(session.kb(), 0);
+    let program = planner::program_for(session.kb(), 0);
+    let mut successors = planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
+    rewrite(&mut successors, &mut task)
+}
+
 #[test]
 fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() {
     // One row of seven cells: p and q trade cells 1 and 2, r and s cells 4 and 5; cells 3, 6
@@ -929,12 +941,10 @@ fn relocating_by_regret_gives_a_place_to_the_start_that_loses_most_without_it() 
     let plan = read_plan(&mut session, &steps);
     let mut cost = least_move_duration;
     let mut relocated = |placing: planner::detour::Placing| -> Vec<String> {
-        let mut task = passes::task::build(session.kb(), 0);
-        let program = planner::program_for(session.kb(), 0);
-        let mut successors =
-            planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
-        let found = planner::detour::relocate(&mut successors, &mut task, &plan, (&[], &[], false), placing, &mut cost)
-            .unwrap_or_else(|failure| panic!("{placing:?}: no plan: {failure:?}"));
+        let found = rewritten(&session, |successors, task| {
+            planner::detour::relocate(successors, task, &plan, (&[], &[], false), placing, &mut cost)
+        })
+        .unwrap_or_else(|failure| panic!("{placing:?}: no plan: {failure:?}"));
         let span = session.kb().problems[0].span;
         let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &found.plan, span));
         assert!(!verdict.diagnostics.has_errors(), "{placing:?}: {:?}", common::messages(&verdict.diagnostics));
@@ -991,14 +1001,12 @@ fn relocating_onto_a_cell_left_later_holds_the_move_s_end_back() {
     let waits = vec![0; plan.steps.len()];
     let mut cost = least_move_duration;
     let mut relocated = |hold_back: bool| {
-        let mut task = passes::task::build(session.kb(), 0);
-        let program = planner::program_for(session.kb(), 0);
-        let mut successors =
-            planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
         let times = &before.earliest[..plan.steps.len()];
         let placing = planner::detour::Placing::InPlanOrder;
-        planner::detour::relocate(&mut successors, &mut task, &plan, (&waits, times, hold_back), placing, &mut cost)
-            .unwrap_or_else(|failure| panic!("holding back {hold_back}: no plan: {failure:?}"))
+        rewritten(&session, |successors, task| {
+            planner::detour::relocate(successors, task, &plan, (&waits, times, hold_back), placing, &mut cost)
+        })
+        .unwrap_or_else(|failure| panic!("holding back {hold_back}: no plan: {failure:?}"))
     };
     let (held, plain) = (relocated(true), relocated(false));
     assert!(plain.taken.is_empty(), "{:#?}", move_starts(&session, &plain.plan));
@@ -1031,10 +1039,8 @@ fn eliminating_leaves_out_a_trip_out_and_back_and_nothing_the_plan_needs() {
     ]
     .concat();
     let plan = read_plan(&mut session, &steps);
-    let mut task = passes::task::build(session.kb(), 0);
-    let program = planner::program_for(session.kb(), 0);
-    let mut successors = planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
-    let found = planner::detour::eliminate(&mut successors, &mut task, &plan, 100_000).expect("a valid plan");
+    let found = rewritten(&session, |successors, task| planner::detour::eliminate(successors, task, &plan, 100_000))
+        .expect("a valid plan");
     let span = session.kb().problems[0].span;
     let verdict = session.validate(0, &PlanStep::of_plan(session.kb(), &found.plan, span));
     assert!(!verdict.diagnostics.has_errors(), "{:?}", common::messages(&verdict.diagnostics));
@@ -1044,7 +1050,8 @@ fn eliminating_leaves_out_a_trip_out_and_back_and_nothing_the_plan_needs() {
     assert_eq!(found.taken, [6, 8, 10, 12, 14, 16]);
     assert_eq!(found.plan.steps.len(), 12);
     // With no budget, nothing is tried.
-    let kept = planner::detour::eliminate(&mut successors, &mut task, &plan, 0).expect("a valid plan");
+    let kept = rewritten(&session, |successors, task| planner::detour::eliminate(successors, task, &plan, 0))
+        .expect("a valid plan");
     assert!(kept.taken.is_empty() && kept.plan == plan);
 }
 
