@@ -113,8 +113,8 @@ const DETOUR_REASSIGN_ROUNDS: usize = 2;
 
 /// How many times [`reassign`] rearranges a plan with relocations before it is compared with
 /// the plan without them. (Two, as for the detours, gained less for more time: seeds 1/5
-/// 2193/2210 -> 2184/2206, 18 rungs shorter and 5 longer; both at two, 2157/2180 in 20% more
-/// time than one.)
+/// 2193/2210 -> 2184/2206, 18 rungs shorter and 5 longer; both at two, 2157/2180 in 16-21%
+/// more time than one.)
 const RELOCATION_REASSIGN_ROUNDS: usize = 1;
 
 /// How many times [`reassign`] sends held starts aside in a plan it has just improved.
