@@ -98,6 +98,24 @@ well_known_symbols! {
     HL_GOAL = "hl_goal",
     LL_INIT = "ll_init",
     LL_GOAL = "ll_goal",
+    // Operators of SWI-Prolog's table the grammar reads besides those above.
+    AT_LT = "@<",
+    AT_GT = "@>",
+    AT_LE = "@=<",
+    AT_GE = "@>=",
+    UNIV = "=..",
+    VARIANT = "=@=",
+    NOT_VARIANT = "\\=@=",
+    BIT_AND = "/\\",
+    BIT_OR = "\\/",
+    XOR = "xor",
+    REM = "rem",
+    DIV = "div",
+    SHIFT_LEFT = "<<",
+    SHIFT_RIGHT = ">>",
+    POWER = "**",
+    CARET = "^",
+    BACKSLASH = "\\",
 }
 
 /// The table of interned names.
@@ -178,6 +196,12 @@ impl Interner {
     /// The text of a symbol.
     pub fn resolve(&self, symbol: Symbol) -> &str {
         text_of(&self.arena, &self.spans, symbol)
+    }
+
+    /// True if `symbol` is one of the [`sym`] module's, interned by every [`Interner::new`]
+    /// whether or not any text names it.
+    pub fn is_well_known(symbol: Symbol) -> bool {
+        (symbol.0 as usize) < WELL_KNOWN.len()
     }
 
     /// How many names are interned.

@@ -427,6 +427,34 @@ impl Lexer<'_> {
         self.previous.is_some_and(|t| t.ends_term())
     }
 
+    /// The token for a name directly followed by `(`: the functor of a compound, except for an
+    /// infix operator right after a term, which SWI-Prolog reads as the operator before a
+    /// parenthesised operand (`2*(3+4)`, `a-(b)`).
+    fn before_open(&self, symbol: Symbol) -> Tok {
+        if self.previous_ends_term() && crate::syntax::ops::infix(symbol).is_some() {
+            Tok::Op(symbol)
+        } else {
+            Tok::Functor(symbol)
+        }
+    }
+
+    /// The token for an operator of the table not followed by `(`: the operator, or the atom it
+    /// names where it stands alone as an operand (`f(+)`, `X = (-)`, `[mod]`): no term comes
+    /// before it and a `,`, `)`, `]`, `|` or the clause's end comes after it.
+    fn operator(&self, symbol: Symbol, end: u32) -> Tok {
+        if self.previous_ends_term() {
+            return Tok::Op(symbol);
+        }
+        let rest = &self.text.as_bytes()[end as usize..];
+        let layout = rest.iter().take_while(|b| matches!(b, b' ' | b'\t' | b'\r' | b'\n')).count();
+        let alone = match rest.get(layout) {
+            Some(b',' | b')' | b']' | b'|') => true,
+            Some(b'.') => matches!(rest.get(layout + 1), None | Some(b' ' | b'\t' | b'\r' | b'\n' | b'%')),
+            _ => false,
+        };
+        if alone { Tok::Name(symbol) } else { Tok::Op(symbol) }
+    }
+
     /// Cooks one raw token (and any it looks ahead at), leaving the token in `produced` unless
     /// the raw token is skipped.
     fn cook(&mut self, current: RawToken<'_>) -> Option<Token> {
@@ -456,8 +484,11 @@ impl Lexer<'_> {
             }
             Ok(Raw::Cut) => self.push(Tok::Name(sym::CUT), start, end),
             Ok(Raw::Semi) => {
-                let tok =
-                    if self.directly_followed_by_open(end) { Tok::Functor(sym::SEMI) } else { Tok::Op(sym::SEMI) };
+                let tok = if self.directly_followed_by_open(end) {
+                    self.before_open(sym::SEMI)
+                } else {
+                    self.operator(sym::SEMI, end)
+                };
                 self.push(tok, start, end)
             }
             Ok(Raw::BlockComment) => None,
@@ -614,12 +645,13 @@ impl Lexer<'_> {
 
     fn name(&mut self, text: &str, start: u32, end: u32) -> Option<Token> {
         let symbol = self.interner.intern(text);
+        let operator =
+            matches!(symbol, sym::IS | sym::MOD | sym::REM | sym::DIV | sym::XOR | sym::DYNAMIC | sym::DISCONTIGUOUS);
         if self.directly_followed_by_open(end) {
-            return self.push(Tok::Functor(symbol), start, end);
+            return self.push(self.before_open(symbol), start, end);
         }
-        let operator = matches!(symbol, sym::IS | sym::MOD | sym::DYNAMIC | sym::DISCONTIGUOUS);
         if operator {
-            return self.push(Tok::Op(symbol), start, end);
+            return self.push(self.operator(symbol, end), start, end);
         }
         if let Some(open) = self.followed_by_open_after_layout(end) {
             self.diags.push(
@@ -729,6 +761,20 @@ impl Lexer<'_> {
             }
         }
         let operator = match text {
+            "@<" => Some(sym::AT_LT),
+            "@>" => Some(sym::AT_GT),
+            "@=<" => Some(sym::AT_LE),
+            "@>=" => Some(sym::AT_GE),
+            "=.." => Some(sym::UNIV),
+            "=@=" => Some(sym::VARIANT),
+            "\\=@=" => Some(sym::NOT_VARIANT),
+            "/\\" => Some(sym::BIT_AND),
+            "\\/" => Some(sym::BIT_OR),
+            "<<" => Some(sym::SHIFT_LEFT),
+            ">>" => Some(sym::SHIFT_RIGHT),
+            "**" => Some(sym::POWER),
+            "^" => Some(sym::CARET),
+            "\\" => Some(sym::BACKSLASH),
             ":-" => Some(sym::NECK),
             "->" => Some(sym::ARROW),
             "\\+" => Some(sym::NOT_PROVABLE),
@@ -769,9 +815,9 @@ impl Lexer<'_> {
         };
         let symbol = operator.unwrap_or_else(|| self.interner.intern(text));
         if self.directly_followed_by_open(end) {
-            self.push(Tok::Functor(symbol), start, end)
+            self.push(self.before_open(symbol), start, end)
         } else if operator.is_some() {
-            self.push(Tok::Op(symbol), start, end)
+            self.push(self.operator(symbol, end), start, end)
         } else {
             self.push(Tok::SymbolAtom(symbol), start, end)
         }

@@ -61,9 +61,26 @@ pub fn infix(name: Symbol) -> Option<OpDef> {
         | sym::LE
         | sym::GE
         | sym::ARITH_EQ
-        | sym::ARITH_NE => (700, OpType::Xfx),
-        sym::PLUS | sym::MINUS => (500, OpType::Yfx),
-        sym::STAR | sym::SLASH | sym::INT_DIV | sym::MOD => (400, OpType::Yfx),
+        | sym::ARITH_NE
+        | sym::AT_LT
+        | sym::AT_GT
+        | sym::AT_LE
+        | sym::AT_GE
+        | sym::UNIV
+        | sym::VARIANT
+        | sym::NOT_VARIANT => (700, OpType::Xfx),
+        sym::PLUS | sym::MINUS | sym::BIT_AND | sym::BIT_OR => (500, OpType::Yfx),
+        sym::STAR
+        | sym::SLASH
+        | sym::INT_DIV
+        | sym::MOD
+        | sym::REM
+        | sym::DIV
+        | sym::XOR
+        | sym::SHIFT_LEFT
+        | sym::SHIFT_RIGHT => (400, OpType::Yfx),
+        sym::POWER => (200, OpType::Xfx),
+        sym::CARET => (200, OpType::Xfy),
         _ => return None,
     };
     Some(OpDef { priority, kind })
@@ -75,7 +92,7 @@ pub fn prefix(name: Symbol) -> Option<OpDef> {
         sym::NECK => (1200, OpType::Fx),
         sym::DYNAMIC | sym::DISCONTIGUOUS => (1150, OpType::Fx),
         sym::NOT_PROVABLE => (900, OpType::Fy),
-        sym::MINUS => (200, OpType::Fy),
+        sym::MINUS | sym::PLUS | sym::BACKSLASH => (200, OpType::Fy),
         _ => return None,
     };
     Some(OpDef { priority, kind })

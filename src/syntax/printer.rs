@@ -278,6 +278,27 @@ mod tests {
     }
 
     #[test]
+    fn swi_prolog_readings_of_operators_round_trip() {
+        // An infix operator right after a term, directly followed by `(`, is the operator.
+        assert_eq!(round_trip("p(2*(3+4), a-(b), X is(1))."), "p(2 * (3 + 4), a - b, X is 1).\n");
+        // With nothing before it, it is the functor of a compound.
+        assert_eq!(round_trip("p(-(1), =(a, b))."), "p(- 1, a = b).\n");
+        // An operator alone as an operand is an atom.
+        assert_eq!(round_trip("p(+, [-, mod, rem], (*))."), "p((+), [(-), (mod), (rem)], (*)).\n");
+        // SWI-Prolog's other operators of the table, at their priorities.
+        assert_eq!(
+            round_trip("p(X @< Y, T =.. L, a^b^c, 2**3, 7 rem 2 xor 1)."),
+            "p(X @< Y, T =.. L, a ^ b ^ c, 2 ** 3, 7 rem 2 xor 1).\n"
+        );
+        assert_eq!(
+            round_trip("p(\\ 5 /\\ 3 \\/ 1, 1 << 2 >> 3, A =@= B, - a ^ b)."),
+            "p(\\ 5 /\\ 3 \\/ 1, 1 << 2 >> 3, A =@= B, - a ^ b).\n"
+        );
+        // Arguments of priority above 999 where no `,` makes them ambiguous.
+        assert_eq!(round_trip("p(a ; b, (c, d), e -> f, g :- h)."), "p((a ; b), (c, d), (e -> f), (g :- h)).\n");
+    }
+
+    #[test]
     fn symbolic_atoms_keep_their_own_period() {
         assert_eq!(round_trip("x :- \\+. ."), "x :- \\+. .\n");
         assert_eq!(round_trip("'/*'."), "'/*'.\n");
