@@ -9,6 +9,12 @@ pub const STD_ARMS: &str = include_str!("../std/arms.pl");
 /// The name diagnostics show for [`STD_ARMS`].
 pub const STD_ARMS_NAME: &str = "<std>/arms.pl";
 
+/// The library predicates kbc writes in Prolog (`passes::library` loads those a KB calls).
+pub const STD_LIBRARY: &str = include_str!("../std/library.pl");
+
+/// The name diagnostics show for [`STD_LIBRARY`].
+pub const STD_LIBRARY_NAME: &str = "<std>/library.pl";
+
 /// The name diagnostics show for [`STD_BLOCKS`].
 pub const STD_BLOCKS_NAME: &str = "<std>/blocks.pl";
 

@@ -361,7 +361,7 @@ fn the_state_checks_accept_every_ladder_problem() {
         let vocabulary = Vocabulary::of(&frontend.kb, &frontend.interner).expect("the std vocabulary");
         let mut diagnostics = kbc::diag::Diagnostics::new();
         for (index, problem) in frontend.kb.problems.iter().enumerate() {
-            let program = kbc::planner::program_for(&frontend.kb, index);
+            let program = kbc::planner::program_for(&frontend.kb, &frontend.interner, index);
             check_problem(&vocabulary, problem, &program, &frontend.interner, &mut diagnostics);
         }
         assert!(diagnostics.is_empty(), "{}: {}", rung.name(), kbc::diag::render::all_to_string(&db, &diagnostics));

@@ -2,7 +2,7 @@
 //!
 //! Both load tests/engine/program.pl; for each `q(N, Template, Goal)` of
 //! tests/engine/queries.pl both produce every solution of `Goal` as `Template`, in order, or
-//! the kind of error (`instantiation_error`, `type_error`, `evaluation_error`). The answers
+//! the kind of error (`instantiation_error`, `type_error`, `domain_error`, `evaluation_error`). The answers
 //! are compared as terms, with variables renamed by first occurrence and floats compared to
 //! twelve significant digits. Skips, saying so, where `swipl` is absent (`.ci/run` installs it).
 
@@ -62,7 +62,9 @@ fn lower(term: &kbc::syntax::ast::Term, names: &mut Vec<kbc::intern::Symbol>, in
     match term.view(interner) {
         View::Var(_) => {
             let kbc::syntax::ast::TermKind::Var(name) = term.kind else { unreachable!() };
-            let anonymous = interner.resolve(name).starts_with('_');
+            // `_` alone is anonymous; SWI-Prolog prints other variables as `_123`, the same name
+            // for the same variable.
+            let anonymous = interner.resolve(name) == "_";
             let index = if anonymous { None } else { names.iter().position(|&n| n == name) };
             let index = index.unwrap_or_else(|| {
                 names.push(name);
@@ -97,7 +99,7 @@ fn kbc_answers() -> (BTreeMap<i64, Answer>, Interner) {
     let queries = db.add("queries.pl", None, std::fs::read_to_string("tests/engine/queries.pl").expect("corpus"));
     let (_, frontend, _) =
         kbc::session::Session::open(db, &[program, queries], &mut MemoryLoader::default()).into_parts();
-    let program = Program::new(&frontend.kb, &[]);
+    let program = Program::new(&frontend.kb, &frontend.interner, &[]);
     let mut machine = Machine::new(&program, 1_000_000);
     let mut answers = BTreeMap::new();
     for clause in &frontend.kb.clauses {
@@ -121,7 +123,8 @@ fn kbc_answers() -> (BTreeMap<i64, Answer>, Interner) {
             Err(EngineError::Instantiation { .. }) => Answer::Error("instantiation_error".into()),
             Err(EngineError::Type { .. } | EngineError::NotCallable { .. }) => Answer::Error("type_error".into()),
             Err(EngineError::ZeroDivisor | EngineError::Evaluation { .. }) => Answer::Error("evaluation_error".into()),
-            Err(EngineError::Budget { .. }) => Answer::Error("budget".into()),
+            Err(EngineError::Domain { .. }) => Answer::Error("domain_error".into()),
+            Err(EngineError::Budget { .. } | EngineError::Nesting) => Answer::Error("budget".into()),
         };
         answers.insert(number, answer);
     }

@@ -50,7 +50,7 @@ fn plan(frontend: &Frontend, problem: usize, search: SearchKind) -> Plan {
 fn assert_valid(frontend: &Frontend, problem: usize, plan: &Plan) {
     let span = frontend.kb.problems[problem].span;
     let steps = PlanStep::of_plan(&frontend.kb, plan, span);
-    let program = planner::program_for(&frontend.kb, problem);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
     let verdict = validate::validate(&frontend.kb, &frontend.interner, &program, problem, &steps);
     assert!(!verdict.diagnostics.has_errors(), "invalid plan: {:?}", common::messages(&verdict.diagnostics));
 }
@@ -146,7 +146,7 @@ fn initial_estimate(
     keep_plan: bool,
 ) -> (kbc::ir::task::Task, kbc::planner::relaxed::Estimate, u32) {
     let mut task = passes::task::build(&frontend.kb, 0);
-    let program = planner::program_for(&frontend.kb, 0);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, 0);
     let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
     let mut relaxation = Relaxation::new(&task);
     let (machine, cache) = successors.parts();
@@ -540,7 +540,7 @@ fn the_ground_heuristic_computes_the_lifted_h_add() {
     ];
     for (frontend, problem) in &cases {
         let mut task = passes::task::build(&frontend.kb, *problem);
-        let program = planner::program_for(&frontend.kb, *problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, *problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let states = random_walk(&mut task, &mut successors, 40, 11);
         let mut lifted = Relaxation::new(&task);
@@ -671,7 +671,7 @@ fn onkb_goals_proven_one_at_a_time_answer_as_the_conjunction() {
     for (name, frontend) in &cases {
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut split = Successors::new(&task, Machine::new(&program, 1_000_000));
         let mut whole = Successors::new(&task, Machine::new(&program, 1_000_000));
         *whole.parts().1 = successors::OnKbCache::whole(&task);
@@ -713,7 +713,7 @@ fn values_the_onkb_goals_give_twice_make_one_action() {
     // it once, where Prolog first found it, whether the goals are proven apart or whole.
     let frontend = onkb_shapes();
     let mut task = passes::task::build(&frontend.kb, 0);
-    let program = planner::program_for(&frontend.kb, 0);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, 0);
     let open_start = task.schemas.iter().position(|s| s.snap == Snap::Start).expect("open_start");
     for whole in [false, true] {
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
@@ -739,7 +739,7 @@ fn the_ends_of_one_running_action_are_those_the_whole_schema_gives_it() {
     for (name, frontend) in [("std/blocks.pl", blocks), ("depot", depot(false))] {
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let states = random_walk(&mut task, &mut successors, 60, 9);
         let mut compared = 0;
@@ -780,7 +780,7 @@ fn exclusion_nodes_keep_every_ground_h_add() {
     for (name, frontend, excluded, factor) in &cases {
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let states = random_walk(&mut task, &mut successors, 60, 5);
         let lifted = Relaxation::new(&task);
@@ -893,7 +893,7 @@ fn fact_filters_and_join_indexes_leave_the_relaxation_as_it_was() {
     for (name, frontend, least) in &cases {
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let states = random_walk(&mut task, &mut successors, 60, 3);
         let mut relaxations = Vec::new();
@@ -959,7 +959,7 @@ fn no_state_on_a_valid_plan_is_called_a_dead_end() {
         let p = problem(&frontend, name);
         let found = plan(&frontend, p, SearchKind::Paper);
         let mut task = passes::task::build(&frontend.kb, p);
-        let program = planner::program_for(&frontend.kb, p);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, p);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let mut negative = Relaxation::new(&task);
         {
@@ -1057,12 +1057,51 @@ fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
             &[],
             &[],
         ),
+        // A list of solutions is in the order of the facts, as a cut's first solution is.
+        (
+            "agents as facts and a findall",
+            format!("{}agents(L) :- findall(A, agent(A), L).\n", grid.source()),
+            &[],
+            &[],
+            &[],
+        ),
+        // Counting solutions with a library predicate that has an if-then-else inside.
+        (
+            "agents as facts and a library if-then-else",
+            format!("{}some(L, K) :- include(agent, L, K).\n", grid.source()),
+            &[],
+            &[],
+            &[],
+        ),
+        // A built-in that orders atoms by name tells every atom apart, wherever they come from.
+        (
+            "arms in the states and an order of atoms",
+            format!("{}before(A, B) :- A @< B.\n", blocks.source()),
+            &[],
+            &[],
+            &[],
+        ),
+        ("arms in the states and a sort", format!("{}sorted(L, S) :- msort(L, S).\n", blocks.source()), &[], &[], &[]),
+        // So does a goal known only at run time: it could be any of them.
+        ("arms in the states and a call", format!("{}run(G) :- call(G).\n", blocks.source()), &[], &[], &[]),
+        // Built-ins that treat atoms alike and do not depend on the order of solutions leave
+        // them interchangeable, even one that calls a goal named in the KB.
+        (
+            "arms in the states and alike built-ins",
+            format!(
+                "{}cells(N) :- between(1, 5, N), length(L, N), is_list(L).\nall_on(L) :- forall(member(B, L), block(B)).\nblock(_).\n",
+                blocks.source()
+            ),
+            &["a1", "a2", "a3", "b2", "b6"],
+            &[("a1", "a2"), ("a2", "a3")],
+            &[("b2", "b6"), ("a1", "b2")],
+        ),
     ];
     for (what, source, expected, alike, apart) in cases {
         let frontend = from_text(&format!("{what}.pl"), source);
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let mut symmetry = Symmetry::new(&frontend.kb, &mut task);
+        let mut symmetry = Symmetry::new(&frontend.kb, &frontend.interner, &mut task);
         let mut names: Vec<String> = symmetry.candidates().iter().map(|&c| const_text(&frontend, &task, c)).collect();
         names.sort();
         assert_eq!(names, expected, "{what}: the candidates");
@@ -1165,9 +1204,9 @@ goal_state([used(t1), used(t2), waved(h1)]).
     for (name, frontend) in &frontends {
         let problem = frontend.kb.problems.len() - 1;
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
-        let mut symmetry = Symmetry::new(&frontend.kb, &mut task);
+        let mut symmetry = Symmetry::new(&frontend.kb, &frontend.interner, &mut task);
         let ids: Vec<kbc::ir::task::ConstId> = symmetry.candidates().to_vec();
         let candidates: Vec<String> = ids.iter().map(|&c| const_text(frontend, &task, c)).collect();
         assert!(candidates.len() >= 2, "{name}: {candidates:?}");
@@ -1256,7 +1295,7 @@ fn checking_one_action_agrees_with_listing_every_applicable_instance() {
         let plan = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent)
             .result
             .unwrap_or_else(|failure| panic!("{name}: no plan: {failure:?}"));
-        let program = planner::program_for(&frontend.kb, 0);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, 0);
         let path = planner::path_of(&mut task, &plan);
         assert_eq!(path.len(), plan.steps.len(), "{name}");
         let mut states = vec![task.init.clone()];
@@ -1430,7 +1469,7 @@ t2 :- go([], [beeped(a), poked(_, 1)]).
     let frontend = from_text("overlap.pl", source);
     let names_of = |problem: usize, beeps: &[&str]| {
         let mut task = passes::task::build(&frontend.kb, problem);
-        let program = planner::program_for(&frontend.kb, problem);
+        let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let mut state = task.init.clone();
         for &spot in beeps {

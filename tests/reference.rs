@@ -821,7 +821,7 @@ fn check(seed: u64, counts: &mut Counts) -> Result<(), String> {
         return Ok(());
     }
     let problem = 0;
-    let program = planner::program_for(&frontend.kb, problem);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, problem);
     let validate_text = |plan_text: String, names: &[String]| -> Result<(), String> {
         let mut interner = frontend.interner.clone();
         let mut db = SourceDb::new();
@@ -1056,7 +1056,7 @@ fn plan_of(text: &str, search: SearchKind) -> Result<(Vec<String>, String), Stri
     let file = db.add("plan.txt", None, printed.clone());
     let mut diags = kbc::diag::Diagnostics::new();
     let steps = validate::read_plan(file, &printed, &mut interner, &mut diags);
-    let program = planner::program_for(&frontend.kb, 0);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, 0);
     let verdict = validate::validate(&frontend.kb, &interner, &program, 0, &steps);
     if diags.has_errors() || verdict.diagnostics.has_errors() {
         return Err(format!(

@@ -910,7 +910,7 @@ fn rewritten<R>(
     rewrite: impl FnOnce(&mut planner::successors::Successors<'_>, &mut kbc::ir::task::Task) -> R,
 ) -> R {
     let mut task = passes::task::build(session.kb(), 0);
-    let program = planner::program_for(session.kb(), 0);
+    let program = planner::program_for(session.kb(), session.interner(), 0);
     let mut successors = planner::successors::Successors::new(&task, kbc::engine::Machine::new(&program, 1_000_000));
     rewrite(&mut successors, &mut task)
 }

@@ -169,6 +169,7 @@ codes! {
     UNUSED_DURATION = "W0013": "a duration that names no durative action";
     INCLUDED_AGAIN = "W0014": "a file included again";
     OPEN_INIT = "W0015": "an initial fact with a variable";
+    OUTPUT_NOT_PRINTED = "W0016": "output that kbc does not print";
 }
 
 /// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older

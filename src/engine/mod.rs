@@ -1,10 +1,12 @@
 //! The Prolog resolution engine: proves OnKB goals, `duration/3` and the KB's rules.
 //!
 //! SLD resolution with clause order, backtracking and cut, over a program compiled from the
-//! HIR's static clauses (plus, while planning a problem, the facts of its goal). The built-ins
-//! are those of `crate::builtins`: unification and identity, arithmetic with `is` and the six
-//! comparisons, `\+`, `,`, `;`, `->`, `true`, `fail`, `!`, and `member/2` (a library
-//! predicate a KB may redefine).
+//! HIR's static clauses, the library predicates they call (std/library.pl, `Kb::library`)
+//! and, while planning a problem, the facts of its goal. The built-ins are those of
+//! `crate::builtins`: control, unification and arithmetic in [`Machine::step`]'s dispatch,
+//! the rest as natives (`native.rs`: type tests, the standard order of terms, `findall/3`,
+//! `call/N`, `length/2`, sorting, ...), found through the predicate table like any predicate
+//! so that a KB's own definition of a library predicate replaces the native one.
 //!
 //! # Design
 //!
@@ -20,9 +22,11 @@
 //! turn into a diagnostic, never a hang.
 
 mod arith;
+mod native;
 
 use rustc_hash::FxHashMap;
 
+use crate::builtins::{self, Native};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{self, Goal, Kb, Literal, Term, VarId};
 
@@ -77,6 +81,16 @@ pub enum EngineError {
         /// The goal.
         found: Term,
     },
+    /// A value of the right type outside the values allowed, e.g. a negative length.
+    Domain {
+        /// What was expected, e.g. "a non-negative integer".
+        expected: &'static str,
+        /// The value found instead.
+        found: Term,
+    },
+    /// `findall/3` and the other predicates that collect solutions nested deeper than the
+    /// engine allows.
+    Nesting,
 }
 
 impl EngineError {
@@ -90,6 +104,10 @@ impl EngineError {
             EngineError::Evaluation { message } => message.clone(),
             EngineError::ZeroDivisor => "division by zero".to_string(),
             EngineError::NotCallable { found } => format!("`{}` cannot be called as a goal", show(found)),
+            EngineError::Domain { expected, found } => format!("expected {expected}, found `{}`", show(found)),
+            EngineError::Nesting => {
+                format!("calls that collect solutions (`findall/3`, ...) nested more than {MAX_COLLECTORS} deep")
+            }
         }
     }
 }
@@ -125,6 +143,9 @@ struct Predicate {
     /// just-in-time indexes do). std/blocks.pl asks `\+ on(_, _, X, Y)` of every cell, once
     /// for each block, over the goal's 100 `on/4` facts of a 100-block rung.
     others: Vec<std::cell::OnceCell<ArgIndex>>,
+    /// The native that implements it, for a built-in the engine runs in Rust (then it has no
+    /// clauses).
+    native: Option<Native>,
 }
 
 /// A predicate's clauses by the key of their argument at one position.
@@ -174,6 +195,47 @@ const INDEX_OTHERS_FROM: usize = 8;
 pub struct Program {
     clauses: Vec<ClauseTemplate>,
     predicates: FxHashMap<(Symbol, u32), Predicate>,
+    /// The arithmetic functions beyond those of the `sym` module, by name and arity.
+    functions: FxHashMap<(Symbol, u32), arith::Function>,
+    /// Each symbol's rank in the standard order of atoms (their text, character by
+    /// character), for the comparisons that need it; empty when nothing in the program can
+    /// compare atoms (see [`Program::new`]).
+    rank: Box<[u32]>,
+    /// Names the natives read or build.
+    names: Names,
+    /// The types `must_be/2` knows, by the symbols of their names and their arities.
+    types: FxHashMap<(Symbol, u32), TypeName>,
+}
+
+/// A type `must_be/2` checks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TypeName {
+    Integer,
+    PositiveInteger,
+    Nonneg,
+    Atom,
+    Atomic,
+    Callable,
+    Var,
+    Boolean,
+    List,
+    Number,
+    Float,
+    Compound,
+    Ground,
+    OneOf,
+}
+
+/// Symbols the natives need that are not in the `sym` module: they exist only if the KB's
+/// text (or the library it calls) names them, and a native that needs one only runs if so.
+#[derive(Clone, Copy, Debug, Default)]
+struct Names {
+    caret: Option<Symbol>,
+    before: Option<Symbol>,
+    not_after: Option<Symbol>,
+    after: Option<Symbol>,
+    not_before: Option<Symbol>,
+    infinite: Option<Symbol>,
 }
 
 /// Converts HIR terms into cell templates.
@@ -256,6 +318,7 @@ fn goal_term(builder: &mut impl GoalBuilder, goal: &Goal) -> Cell {
             let g = goal_term(builder, g);
             builder.compound(sym::NOT_PROVABLE, &[g])
         }
+        Goal::Meta(meta) => builder.call(&meta.call.term),
     }
 }
 
@@ -296,14 +359,30 @@ fn index_key(cells: &[Cell], cell: Cell) -> Option<IndexKey> {
 
 impl Program {
     /// The program of a KB's static clauses, plus `extra_facts` (a problem's goal literals,
-    /// which OnKB goals may ask about), plus `member/2` unless the KB defines it.
-    pub fn new(kb: &Kb, extra_facts: &[(&Literal, &hir::VarTable)]) -> Program {
+    /// which OnKB goals may ask about), plus the library predicates the KB calls
+    /// (`Kb::library`) and `member/2`, each unless the KB or the extra facts define it, plus
+    /// the natives of `crate::builtins` (a library native only where nothing defines it).
+    ///
+    /// The standard order of atoms is computed (from `interner`, every name the session has
+    /// seen) only if the program can compare atoms: if some name of a built-in that does
+    /// (`Reads::Names`) was ever interned. A term the engine compares comes from the program
+    /// or a query, whose names are all interned, and no call can reach such a built-in
+    /// without its name written somewhere.
+    pub fn new(kb: &Kb, interner: &Interner, extra_facts: &[(&Literal, &hir::VarTable)]) -> Program {
         let mut program = Program::default();
-        for clause in &kb.clauses {
+        let compile = |program: &mut Program, clause: &hir::Clause| {
             let mut builder = TemplateBuilder::new(clause.vars.len());
             let head = builder.term(&clause.head.term);
             let body = clause.body.as_deref().map(|b| builder.goal(b));
             program.add(ClauseTemplate { cells: builder.cells, head, body });
+        };
+        for clause in &kb.clauses {
+            compile(&mut program, clause);
+        }
+        let facts: rustc_hash::FxHashSet<(Symbol, usize)> =
+            extra_facts.iter().filter_map(|(l, _)| l.term.callable()).collect();
+        for clause in kb.library.iter().filter(|c| !facts.contains(&(c.head.name(), c.head.arity()))) {
+            compile(&mut program, clause);
         }
         for (literal, vars) in extra_facts {
             let mut builder = TemplateBuilder::new(vars.len());
@@ -313,7 +392,68 @@ impl Program {
         if !program.predicates.contains_key(&(sym::MEMBER, 2)) {
             program.add_member();
         }
+        let mut compares_atoms = false;
+        for builtin in builtins::PREDICATES {
+            let builtins::Imp::Native(native) = builtin.imp else { continue };
+            let Some(name) = interner.get(builtin.name) else { continue };
+            let key = (name, builtin.arity as u32);
+            let defined = program.predicates.get(&key).is_some_and(|p| !p.clauses.is_empty());
+            if builtin.kind == builtins::Kind::Library && defined {
+                continue;
+            }
+            compares_atoms |= builtin.reads == builtins::Reads::Names;
+            let predicate = program.predicates.entry(key).or_insert_with(|| Predicate {
+                others: (1..key.1).map(|_| std::cell::OnceCell::new()).collect(),
+                ..Predicate::default()
+            });
+            predicate.native = Some(native);
+        }
+        program.functions = arith::functions(interner);
+        if compares_atoms {
+            let mut symbols: Vec<u32> = (0..interner.len() as u32).collect();
+            symbols.sort_by(|&a, &b| interner.resolve(Symbol(a)).cmp(interner.resolve(Symbol(b))));
+            let mut rank = vec![0; symbols.len()];
+            for (position, symbol) in symbols.into_iter().enumerate() {
+                rank[symbol as usize] = position as u32;
+            }
+            program.rank = rank.into_boxed_slice();
+        }
+        program.names = Names {
+            caret: interner.get("^"),
+            before: interner.get("@<"),
+            not_after: interner.get("@=<"),
+            after: interner.get("@>"),
+            not_before: interner.get("@>="),
+            infinite: interner.get("infinite"),
+        };
+        const TYPES: &[(&str, u32, TypeName)] = &[
+            ("integer", 0, TypeName::Integer),
+            ("positive_integer", 0, TypeName::PositiveInteger),
+            ("nonneg", 0, TypeName::Nonneg),
+            ("atom", 0, TypeName::Atom),
+            ("atomic", 0, TypeName::Atomic),
+            ("callable", 0, TypeName::Callable),
+            ("var", 0, TypeName::Var),
+            ("boolean", 0, TypeName::Boolean),
+            ("list", 0, TypeName::List),
+            ("proper_list", 0, TypeName::List),
+            ("number", 0, TypeName::Number),
+            ("float", 0, TypeName::Float),
+            ("compound", 0, TypeName::Compound),
+            ("ground", 0, TypeName::Ground),
+            ("oneof", 1, TypeName::OneOf),
+        ];
+        program.types = TYPES.iter().filter_map(|&(n, a, t)| Some(((interner.get(n)?, a), t))).collect();
         program
+    }
+
+    /// The rank of `symbol` in the standard order of atoms: symbols named after the program
+    /// was made come after every other, in the order they were named.
+    fn rank(&self, symbol: Symbol) -> u64 {
+        match self.rank.get(symbol.0 as usize) {
+            Some(&rank) => rank as u64,
+            None => self.rank.len() as u64 + symbol.0 as u64,
+        }
     }
 
     /// `member(X, [X|_]).` and `member(X, [_|T]) :- member(X, T).`
@@ -368,7 +508,7 @@ impl Program {
 
     /// True if the program has clauses for `name/arity`.
     pub fn defines(&self, name: Symbol, arity: usize) -> bool {
-        self.predicates.contains_key(&(name, arity as u32))
+        self.predicates.get(&(name, arity as u32)).is_some_and(|p| !p.clauses.is_empty())
     }
 
     /// The number of clauses of `name/arity`.
@@ -423,6 +563,9 @@ enum Alternative {
     Clauses { goal: Cell, predicate: (Symbol, u32), key: Option<(u32, IndexKey)>, next: u32, cut: u32 },
     /// The other branch of a disjunction.
     Goal { goal: Cell, cut: u32 },
+    /// The end of a `findall/3` goal's solutions: make the list of what `collectors[frame]`
+    /// holds, ending in `tail`, and unify it with `list`.
+    Collected { frame: u32, list: Cell, tail: Cell },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -437,6 +580,28 @@ struct Choicepoint {
 
 /// A special goal: cut back to the given choicepoint height (if-then-else, negation).
 const CUT_TO: Symbol = Symbol(u32::MAX - 1);
+/// A special goal of `findall/3`: `COLLECT(Frame, Template)` copies the template into a
+/// collector and fails.
+const COLLECT: Symbol = Symbol(u32::MAX - 2);
+/// A special goal of `arg/3` with an unbound position: `ARG_FROM(K, N, Term, Arg)` gives the
+/// arguments from position K on.
+const ARG_FROM: Symbol = Symbol(u32::MAX - 3);
+/// A special goal of `length/2` on a partial list and an unbound length:
+/// `LENGTH_FROM(Tail, K, N)` gives the lengths from K on.
+const LENGTH_FROM: Symbol = Symbol(u32::MAX - 4);
+
+/// How deep calls that collect solutions may nest: each level is a frame of the Rust stack
+/// only while its solutions are copied, but bounding them keeps a runaway recursion through
+/// `findall/3` an error rather than an exhausted memory.
+pub const MAX_COLLECTORS: usize = 10_000;
+
+/// The solutions a `findall/3` has collected so far: copies of its template, in cells that
+/// refer to one another by their index in `cells`, as clause templates do.
+#[derive(Clone, Debug, Default)]
+struct Collector {
+    cells: Vec<Cell>,
+    roots: Vec<Cell>,
+}
 
 /// An abstract machine that proves queries against a [`Program`].
 pub struct Machine<'p> {
@@ -451,6 +616,8 @@ pub struct Machine<'p> {
     occurs_failed: bool,
     /// Scratch space for [`Machine::unify`]'s pairs still to unify.
     unify_pending: Vec<(Cell, Cell)>,
+    /// The solutions of the `findall/3` calls under way, innermost last.
+    collectors: Vec<Collector>,
 }
 
 impl<'p> Machine<'p> {
@@ -466,6 +633,7 @@ impl<'p> Machine<'p> {
             budget,
             occurs_failed: false,
             unify_pending: Vec::new(),
+            collectors: Vec::new(),
         }
     }
 
@@ -487,6 +655,7 @@ impl<'p> Machine<'p> {
         self.trail.clear();
         self.conts.clear();
         self.choicepoints.clear();
+        self.collectors.clear();
         self.steps = 0;
         self.occurs_failed = false;
     }
@@ -731,6 +900,7 @@ impl<'p> Machine<'p> {
     ) -> Result<Outcome, EngineError> {
         let base_choicepoints = self.choicepoints.len() as u32;
         let base_trail = self.trail.len() as u32;
+        let base_collectors = self.collectors.len();
         let mut current = self.push_goal(goal, base_choicepoints, NIL);
         let result = loop {
             if current == NIL {
@@ -760,6 +930,7 @@ impl<'p> Machine<'p> {
             }
         };
         self.choicepoints.truncate(base_choicepoints as usize);
+        self.collectors.truncate(base_collectors);
         self.undo_to(base_trail);
         result
     }
@@ -779,6 +950,16 @@ impl<'p> Machine<'p> {
                 Alternative::Goal { goal, cut } => {
                     self.choicepoints.pop();
                     return Some(self.push_goal(goal, cut, cp.cont));
+                }
+                Alternative::Collected { frame, list, tail } => {
+                    self.choicepoints.pop();
+                    debug_assert_eq!(frame as usize + 1, self.collectors.len(), "collectors nest");
+                    let collector = self.collectors.pop().unwrap_or_default();
+                    let solutions = self.thaw(&collector);
+                    let made = self.make_list(&solutions, tail);
+                    if self.unify(list, made) {
+                        return Some(cp.cont);
+                    }
                 }
                 Alternative::Clauses { goal, predicate, key, next, cut } => {
                     let list = self.clause_list(predicate, key);
@@ -817,9 +998,16 @@ impl<'p> Machine<'p> {
     /// match: by the first argument when it is bound (to an atom, a number, a string or a
     /// compound); else, where the predicate has enough clauses, by the bound argument with the
     /// fewest clauses to try (the leftmost among equals); else all of them, by none.
+    #[cfg(test)]
     fn lookup(&self, predicate: (Symbol, u32), args: &[Cell]) -> (Option<(u32, IndexKey)>, &'p [u32]) {
         let program: &'p Program = self.program;
         let Some(p) = program.predicates.get(&predicate) else { return (None, &[]) };
+        self.lookup_in(p, args)
+    }
+
+    /// [`Machine::lookup`] in the predicate's own entry.
+    fn lookup_in(&self, p: &'p Predicate, args: &[Cell]) -> (Option<(u32, IndexKey)>, &'p [u32]) {
+        let program: &'p Program = self.program;
         let key_at = |machine: &Self, at: usize| index_key(&machine.heap, machine.deref(args[at]));
         if let Some(key) = args.first().and_then(|_| key_at(self, 0)) {
             return (Some((0, key)), p.first.list(&key));
@@ -876,6 +1064,14 @@ impl<'p> Machine<'p> {
                 }
                 Ok(Some(next))
             }
+            (COLLECT, 2) => {
+                if let Cell::Int(frame) = self.deref(args[0]) {
+                    self.collect(frame as usize, args[1]);
+                }
+                Ok(None)
+            }
+            (ARG_FROM, 4) => self.arg_from(&args, cut, next),
+            (LENGTH_FROM, 3) => self.length_from(&args, cut, next),
             (sym::COMMA, 2) => {
                 let rest = self.push_goal(args[1], cut, next);
                 Ok(Some(self.push_goal(args[0], cut, rest)))
@@ -923,7 +1119,7 @@ impl<'p> Machine<'p> {
                 };
                 Ok(holds.then_some(next))
             }
-            _ => Ok(self.call(goal, name, &args, next)),
+            _ => self.call(goal, name, &args, cut, next),
         }
     }
 
@@ -951,10 +1147,36 @@ impl<'p> Machine<'p> {
         });
     }
 
-    /// Calls a user predicate: tries its clauses in order, leaving a choicepoint for the rest.
-    fn call(&mut self, goal: Cell, name: Symbol, args: &[Cell], next: u32) -> Option<u32> {
+    /// Calls a predicate: runs its native, or tries its clauses in order, leaving a
+    /// choicepoint for the rest.
+    fn call(
+        &mut self,
+        goal: Cell,
+        name: Symbol,
+        args: &[Cell],
+        cut: u32,
+        next: u32,
+    ) -> Result<Option<u32>, EngineError> {
         let predicate = (name, args.len() as u32);
-        let (key, list) = self.lookup(predicate, args);
+        let program: &'p Program = self.program;
+        let Some(entry) = program.predicates.get(&predicate) else { return Ok(None) };
+        if let Some(native) = entry.native {
+            return self.native(native, name, args, cut, next);
+        }
+        Ok(self.call_clauses(goal, predicate, entry, args, next))
+    }
+
+    /// Tries the clauses of `predicate` (whose entry is `entry`) in order, leaving a
+    /// choicepoint for the rest.
+    fn call_clauses(
+        &mut self,
+        goal: Cell,
+        predicate: (Symbol, u32),
+        entry: &'p Predicate,
+        args: &[Cell],
+        next: u32,
+    ) -> Option<u32> {
+        let (key, list) = self.lookup_in(entry, args);
         let cut = self.choicepoints.len() as u32;
         for (position, &clause) in list.iter().enumerate() {
             if position + 1 < list.len() {
@@ -993,7 +1215,7 @@ mod tests {
 
     fn program(text: &str) -> (Program, crate::session::Frontend) {
         let (_, frontend, _) = crate::session::Session::from_text("t.pl", text).into_parts();
-        (Program::new(&frontend.kb, &[]), frontend)
+        (Program::new(&frontend.kb, &frontend.interner, &[]), frontend)
     }
 
     fn atom(frontend: &mut crate::session::Frontend, name: &str) -> Cell {

@@ -51,6 +51,22 @@ impl Term {
         acc
     }
 
+    /// The operands of the right-nested chain `op(a, op(b, c))`: `a`, `b`, `c`; a term that
+    /// is no such chain is its own only operand.
+    pub fn xfy_operands(&self, op: Symbol) -> Vec<&Term> {
+        let mut operands = Vec::new();
+        let mut rest = self;
+        while let Term::Compound(f, args) = rest
+            && *f == op
+            && args.len() == 2
+        {
+            operands.push(&args[0]);
+            rest = &args[1];
+        }
+        operands.push(rest);
+        operands
+    }
+
     /// The name and arity of a callable term.
     pub fn callable(&self) -> Option<(Symbol, usize)> {
         match self {
@@ -181,6 +197,22 @@ pub enum Goal {
     Or(Vec<Branch>),
     /// `\+ G`.
     Not(Box<Goal>),
+    /// A call of a built-in that calls goals it is given: `findall/3`, `forall/2`, `call/N`,
+    /// `maplist/N`, ... (`crate::builtins::Builtin::calls`).
+    Meta(Box<MetaCall>),
+}
+
+/// A call of a built-in that calls some of its arguments ([`Goal::Meta`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MetaCall {
+    /// The call, as the engine runs it.
+    pub call: Literal,
+    /// Each literal it may call through those arguments, however deep (through control
+    /// constructs and other such calls), with the number of arguments the call appends to it
+    /// (`maplist(P, L)` calls `P` with one more). The terms are those of `call`'s arguments,
+    /// so their variables are `call`'s; what an argument holds only at run time (a variable)
+    /// is not here. For the name checks, the editor index and the analyses.
+    pub called: Vec<(Literal, usize)>,
 }
 
 /// A branch of a disjunction ([`Goal::Or`]): a goal, or an if-then `C1 -> C2 -> ... -> G`.
@@ -211,6 +243,32 @@ impl Goal {
                 }
             }
             Goal::Not(g) => g.for_each_call(f),
+            Goal::Meta(meta) => {
+                f(&meta.call);
+                meta.called.iter().filter(|(_, extra)| *extra == 0).for_each(|(l, _)| f(l));
+            }
+        }
+    }
+
+    /// Calls `f` on every literal called anywhere in the goal, with the number of arguments
+    /// the call appends (nonzero for the closures of `maplist/N` and the like, which
+    /// [`Goal::for_each_call`] leaves out): the predicate called is the literal's name with
+    /// its arity plus that number.
+    pub fn for_each_called<'a>(&'a self, f: &mut impl FnMut(&'a Literal, usize)) {
+        match self {
+            Goal::Meta(meta) => {
+                f(&meta.call, 0);
+                meta.called.iter().for_each(|(l, extra)| f(l, *extra));
+            }
+            Goal::And(goals) => goals.iter().for_each(|g| g.for_each_called(f)),
+            Goal::Or(branches) => {
+                for branch in branches {
+                    branch.conditions.iter().for_each(|c| c.for_each_called(f));
+                    branch.goal.for_each_called(f);
+                }
+            }
+            Goal::Not(g) => g.for_each_called(f),
+            Goal::Call(literal) => f(literal, 0),
         }
     }
 }
@@ -438,6 +496,10 @@ pub struct Kb {
     pub arm_states: Vec<ArmState>,
     /// The static program: facts and rules, in clause order.
     pub clauses: Vec<Clause>,
+    /// The library predicates the program calls and does not define itself, from
+    /// std/library.pl (`passes::library`): clauses of the engine's program, but not the KB's
+    /// (no check, dump or editor feature sees them).
+    pub library: Vec<Clause>,
     /// Action schemas of both levels, in clause order.
     pub actions: Vec<Action>,
     /// Refinements.
@@ -622,6 +684,7 @@ fn write_goal(out: &mut String, interner: &Interner, goal: &Goal, vars: &VarTabl
             out.push_str("\\+ ");
             write_goal(out, interner, g, vars);
         }
+        Goal::Meta(meta) => write_named(out, interner, &meta.call.term, vars, 999),
     }
 }
 
@@ -788,6 +851,7 @@ pub fn verify(kb: &Kb, files: usize) -> Result<(), String> {
                     || branches.iter().any(|b| b.conditions.iter().any(has_empty_or) || has_empty_or(&b.goal))
             }
             Goal::Not(g) => has_empty_or(g),
+            Goal::Meta(_) => false,
         }
     }
     fn check_goal(g: &Goal, vars: &VarTable, files: usize, what: &str) -> Result<(), String> {

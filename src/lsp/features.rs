@@ -113,8 +113,8 @@ fn describe_predicate(analysis: &Analysis, predicate: Symbol, arity: usize) -> S
     let interner = &analysis.frontend.interner;
     let shown = indicator(interner, predicate, arity);
     let text = interner.resolve(predicate);
-    if let Some((_, _, what)) = builtins::PREDICATES.iter().find(|(n, a, _)| *n == text && *a == arity) {
-        return format!("```prolog\n{shown}\n```\nbuilt-in: {what}");
+    if let Some(builtin) = builtins::find(text, arity) {
+        return format!("```prolog\n{shown}\n```\nbuilt-in: {}", builtin.what);
     }
     let matches = |l: &hir::Literal| l.name() == predicate && l.arity() == arity;
     let action_names = |filter: &dyn Fn(&Action) -> bool| -> Vec<String> {
@@ -403,7 +403,7 @@ pub fn completion(analysis: Option<&Analysis>, text: &str, offset: usize) -> Vec
         candidates.extend(names(&analysis.index, &analysis.frontend.kb, &analysis.frontend.interner));
     }
     candidates.extend(std_names().iter().cloned());
-    for &(name, arity, _) in builtins::PREDICATES {
+    for &builtins::Builtin { name, arity, .. } in builtins::PREDICATES {
         if name.starts_with(|c: char| c.is_ascii_lowercase()) {
             candidates.insert(Candidate { name: name.to_string(), arity, kind: NameKind::Builtin });
         }
@@ -464,7 +464,7 @@ fn names(index: &Index, kb: &Kb, interner: &Interner) -> Vec<Candidate> {
             }
             _ => continue,
         };
-        if !builtins::PREDICATES.iter().any(|(n, a, _)| *n == candidate.name && *a == candidate.arity) {
+        if builtins::find(&candidate.name, candidate.arity).is_none() {
             out.push(candidate);
         }
     }

@@ -83,40 +83,43 @@ impl Index {
     /// Indexes a resolved KB.
     pub fn build(kb: &Kb, loaded: &Loaded) -> Index {
         let mut occurrences = Vec::new();
-        let mut add = |literal: &Literal, role: Role| {
+        // `extra`: the arguments a call appends to a closure (`maplist(P, L)` calls `P/1`).
+        let mut add_called = |literal: &Literal, extra: usize, role: Role| {
             if let Some((name, arity)) = literal.term.callable() {
-                occurrences.push(Occurrence { span: literal.name_span, key: Key::Predicate(name, arity), role });
+                let key = Key::Predicate(name, arity + extra);
+                occurrences.push(Occurrence { span: literal.name_span, key, role });
             }
         };
         for clause in &kb.clauses {
-            add(&clause.head, Role::ClauseHead);
+            add_called(&clause.head, 0, Role::ClauseHead);
             if let Some(body) = &clause.body {
-                body.for_each_call(&mut |l| add(l, Role::Call));
+                body.for_each_called(&mut |l, extra| add_called(l, extra, Role::Call));
             }
         }
         for action in &kb.actions {
             for literal in &action.valid {
-                add(literal, Role::Condition);
+                add_called(literal, 0, Role::Condition);
             }
             for literal in action.invalid.iter().chain(&action.invalid_at_end) {
-                add(literal, Role::Condition);
+                add_called(literal, 0, Role::Condition);
             }
             for goal in &action.on_kb {
-                goal.for_each_call(&mut |l| add(l, Role::Call));
+                goal.for_each_called(&mut |l, extra| add_called(l, extra, Role::Call));
             }
             for effect in &action.effects {
-                add(&effect.literal, if effect.kind == EffectKind::Add { Role::Added } else { Role::Deleted });
+                let role = if effect.kind == EffectKind::Add { Role::Added } else { Role::Deleted };
+                add_called(&effect.literal, 0, role);
             }
         }
         for resource in &kb.resources {
-            add(&resource.template, Role::Resource);
+            add_called(&resource.template, 0, Role::Resource);
         }
         for problem in &kb.problems {
             for literal in problem.initial_facts() {
-                add(literal, Role::Init);
+                add_called(literal, 0, Role::Init);
             }
             for literal in &problem.goal {
-                add(literal, Role::Goal);
+                add_called(literal, 0, Role::Goal);
             }
         }
         for action in &kb.actions {

@@ -57,6 +57,8 @@ struct Vocabulary {
     used_by_actions: BTreeSet<Key>,
     /// Predicates named in clauses that failed to parse or lower.
     recovered: BTreeSet<Key>,
+    /// Predicates of the library the KB calls (std/library.pl).
+    library: BTreeSet<Key>,
 }
 
 /// Drops each key equal to the one before it. The clauses of a predicate usually come
@@ -84,6 +86,7 @@ impl Vocabulary {
                 .collect(),
             used_by_actions: BTreeSet::new(),
             recovered: kb.recovered_names.iter().copied().collect(),
+            library: kb.library.iter().map(|c| key(&c.head)).collect(),
         };
         for action in &kb.actions {
             for e in &action.effects {
@@ -105,6 +108,7 @@ impl Vocabulary {
 
     fn kb_known(&self, key: Key) -> bool {
         builtins::is_builtin_predicate(key.0, key.1)
+            || self.library.contains(&key)
             || self.static_defined.contains(&key)
             || self.goal_facts.contains(&key)
             || self.recovered.contains(&key)
@@ -358,8 +362,8 @@ impl Checker<'_> {
         ];
         let mut called: BTreeSet<Key> = BTreeSet::new();
         let mut note_calls = |goal: &Goal| {
-            goal.for_each_call(&mut |l| {
-                called.insert((l.name(), l.arity()));
+            goal.for_each_called(&mut |l, extra| {
+                called.insert((l.name(), l.arity() + extra));
             })
         };
         for action in &self.kb.actions {
@@ -696,15 +700,32 @@ impl Checker<'_> {
 
     fn kb_goal(&mut self, goal: &Goal) {
         let mut calls = Vec::new();
-        goal.for_each_call(&mut |l| calls.push(l));
-        for literal in calls {
-            self.kb_call(literal);
+        goal.for_each_called(&mut |l, extra| calls.push((l, extra)));
+        for (literal, extra) in calls {
+            self.kb_call(literal, extra);
         }
     }
 
-    fn kb_call(&mut self, literal: &Literal) {
-        let key = (literal.name(), literal.arity());
-        if self.vocabulary.kb_known(key) {
+    /// Checks a call of `literal` with `extra` more arguments (a closure's).
+    fn kb_call(&mut self, literal: &Literal, extra: usize) {
+        let key = (literal.name(), literal.arity() + extra);
+        if let Some(builtin) = builtins::lookup(self.interner, key.0, key.1)
+            && builtin.reads == builtins::Reads::Output
+            && !self.vocabulary.static_defined.contains(&key)
+        {
+            let indicator = self.indicator(key);
+            self.diags.push(
+                Diagnostic::warning(codes::OUTPUT_NOT_PRINTED, format!("`{indicator}` prints nothing in kbc"))
+                    .primary(literal.span, "succeeds without output")
+                    .with_note(
+                        "SWI-Prolog would print here; kbc proves OnKB goals and rules many times while it plans, \
+                         in an order no reader could follow, and prints none of it",
+                    )
+                    .with_help("to see what a plan does, use `kbc plan --trace`; to see a KB's answers, `swipl`"),
+            );
+            return;
+        }
+        if self.vocabulary.kb_known(key) || builtins::is_engine_predicate(self.interner, key.0, key.1) {
             return;
         }
         let mut kb_names = self.vocabulary.kb_names();
@@ -724,10 +745,10 @@ impl Checker<'_> {
                     "`{indicator}` is a state fact, but OnKB goals and rule bodies are proven against the KB"
                 ))
                 .with_help("conditions on the state belong in the Valid slot (or Invalid, to forbid them)");
-        } else if builtins::NOT_PROVIDED.contains(&self.name(key.0)) {
+        } else if let Some(why) = builtins::not_provided(self.name(key.0)) {
             diagnostic = diagnostic
                 .with_note(format!(
-                    "`{}` is an SWI-Prolog library predicate that kbc does not provide",
+                    "`{}` is an SWI-Prolog predicate that kbc does not provide: {why}",
                     self.name(key.0)
                 ))
                 .with_help("see docs/dsl.md for the built-ins kbc's resolution engine supports");

@@ -12,14 +12,14 @@
 //! Variables are numbered per clause in order of first occurrence, so items that are equal up
 //! to renaming lower to equal terms.
 
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::load::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Edit, codes, plural};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{
-    self, Action, Branch, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level, Literal,
-    Mapping, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, VarId, VarInfo, VarTable,
+    self, Action, Args, Branch, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level,
+    Literal, Mapping, MetaCall, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, Term, VarId, VarInfo, VarTable,
 };
 use crate::source::{FileId, SourceDb, Span};
 use crate::syntax::ast::{self, Notation, TermKind};
@@ -27,8 +27,38 @@ use crate::syntax::printer::term_to_string;
 
 /// Lowers the loaded clauses (in program order) into a KB.
 pub fn lower(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut Diagnostics) -> Kb {
-    let mut lowerer =
-        Lowerer { interner, diags, db, kb: Kb::default(), state_files: Vec::new(), arm_state_files: Vec::new() };
+    lower_as(loaded, db, interner, diags, false)
+}
+
+/// Lowers std/library.pl, which defines built-ins a KB may not (`bagof/3`, `setof/3`): its
+/// clauses are the KB's [`Kb::clauses`] of the result.
+pub fn lower_library(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut Diagnostics) -> Kb {
+    lower_as(loaded, db, interner, diags, true)
+}
+
+fn lower_as(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut Diagnostics, library: bool) -> Kb {
+    let mut lowerer = Lowerer {
+        interner,
+        diags,
+        db,
+        kb: Kb::default(),
+        state_files: Vec::new(),
+        arm_state_files: Vec::new(),
+        library,
+        defined: FxHashSet::default(),
+    };
+    // The predicates the files define: a library predicate they define is theirs, so a call
+    // of it is a plain call, whatever the library's version calls.
+    for clause in loaded.clauses() {
+        let head = match clause.term.as_compound(sym::NECK, 2) {
+            Some(rule) => &rule.args[0],
+            None if clause.term.as_compound(sym::NECK, 1).is_some() => continue,
+            None => &clause.term,
+        };
+        if let Some(key) = head.callable() {
+            lowerer.defined.insert(key);
+        }
+    }
     for clause in loaded.clauses() {
         lowerer.clause(clause);
     }
@@ -106,6 +136,10 @@ struct Lowerer<'a> {
     state_files: Vec<StateFile>,
     /// The same for `ll_init/1` and `ll_goal/1`.
     arm_state_files: Vec<StateFile>,
+    /// Whether this is std/library.pl, which may define the built-ins it implements.
+    library: bool,
+    /// The predicates the files define (clause heads).
+    defined: FxHashSet<(Symbol, usize)>,
 }
 
 impl Lowerer<'_> {
@@ -268,7 +302,73 @@ impl Lowerer<'_> {
                 _ => {}
             }
         }
-        self.literal(t, scope, "a goal").map(Goal::Call)
+        if let TermKind::Var(_) = t.kind {
+            // A variable as a goal is called: Prolog reads `G` in a body as `call(G)`.
+            let call = self.interner.intern("call");
+            let term = Term::Compound(call, Args::from([self.term(t, scope)]));
+            let call = Literal { term, span: t.span, name_span: t.span };
+            return Some(Goal::Meta(Box::new(MetaCall { call, called: Vec::new() })));
+        }
+        let literal = self.literal(t, scope, "a goal")?;
+        Some(match self.meta_call(&literal, t) {
+            Some(meta) => Goal::Meta(Box::new(meta)),
+            None => Goal::Call(literal),
+        })
+    }
+
+    /// The built-in a call of `name/arity` calls: none for a library predicate the files
+    /// define themselves.
+    fn builtin_called(&self, name: Symbol, arity: usize) -> Option<&'static crate::builtins::Builtin> {
+        let builtin = crate::builtins::lookup(self.interner, name, arity)?;
+        let own = builtin.kind == crate::builtins::Kind::Library && self.defined.contains(&(name, arity));
+        (!own).then_some(builtin)
+    }
+
+    /// A call of a built-in that calls some of its arguments (`findall/3`, `maplist/2`, ...)
+    /// with the literals it may call ([`MetaCall`]); `None` for any other literal. `t` is the
+    /// literal's syntax, for the spans of the literals called (the call's own spans where the
+    /// two do not line up).
+    fn meta_call(&self, literal: &Literal, t: &ast::Term) -> Option<MetaCall> {
+        let builtin = self.builtin_called(literal.name(), literal.arity())?;
+        if builtin.calls.is_empty() || builtin.imp == crate::builtins::Imp::Engine {
+            return None; // not a meta call, or a control construct, lowered as such
+        }
+        let mut pending: Vec<(&Term, Option<&ast::Term>, usize)> = Vec::new();
+        for c in builtin.calls.iter().rev() {
+            pending.push((&literal.term.args()[c.arg], t.args().get(c.arg), c.extra));
+        }
+        let mut called = Vec::new();
+        while let Some((term, syntax, extra)) = pending.pop() {
+            // A variable or a number: what is called is known only at run time.
+            let Some((name, arity)) = term.callable() else { continue };
+            let syntax = syntax.filter(|s| s.callable() == Some((name, arity)));
+            if extra == 0 {
+                let operands: Option<Vec<&Term>> = match (name, arity) {
+                    (sym::COMMA | sym::SEMI | sym::ARROW, 2) => Some(term.xfy_operands(name)),
+                    (sym::NOT_PROVABLE | sym::NOT, 1) => Some(vec![&term.args()[0]]),
+                    _ => None,
+                };
+                if let Some(operands) = operands {
+                    let syntax: Option<Vec<&ast::Term>> = syntax.map(|s| match arity {
+                        2 => s.xfy_operands(name),
+                        _ => s.args().iter().collect(),
+                    });
+                    let syntax = syntax.filter(|s| s.len() == operands.len());
+                    for (i, operand) in operands.into_iter().enumerate().rev() {
+                        pending.push((operand, syntax.as_ref().map(|s| s[i]), 0));
+                    }
+                    continue;
+                }
+            }
+            let (span, name_span) = syntax.map_or((literal.span, literal.name_span), |s| (s.span, s.name_span()));
+            called.push((Literal { term: term.clone(), span, name_span }, extra));
+            if let Some(inner) = self.builtin_called(name, arity + extra) {
+                for c in inner.calls.iter().rev().filter(|c| c.arg < arity) {
+                    pending.push((&term.args()[c.arg], syntax.and_then(|s| s.args().get(c.arg)), c.extra));
+                }
+            }
+        }
+        Some(MetaCall { call: literal.clone(), called })
     }
 
     // ---- clauses --------------------------------------------------------------------------
@@ -294,10 +394,13 @@ impl Lowerer<'_> {
                         .with_help("remove the directive and write the terms in canonical form, e.g. `holds(A, B)`"),
                 );
             }
-            (sym::USE_MODULE, 1)
-                if goal.args()[0]
-                    .as_compound(sym::LIBRARY, 1)
-                    .is_some_and(|l| l.args[0].kind == TermKind::Atom(sym::LISTS)) => {}
+            // The SWI-Prolog libraries whose predicates kbc provides (src/builtins.rs).
+            (sym::USE_MODULE, 1 | 2)
+                if goal.args()[0].as_compound(sym::LIBRARY, 1).is_some_and(|l| match l.args[0].kind {
+                    TermKind::Atom(name) => ["lists", "apply", "aggregate", "pairs", "ordsets", "error"]
+                        .contains(&self.interner.resolve(name)),
+                    _ => false,
+                }) => {}
             _ if crate::builtins::is_debugger(self.interner.resolve(name), goal.args().len()) => {
                 // Nothing to do with planning, so a note rather than a warning.
                 let shown = self.show(goal);
@@ -474,7 +577,9 @@ impl Lowerer<'_> {
             );
             return false;
         };
-        if !is_control_or_iso_builtin(name, arity) {
+        let protected = is_control_or_iso_builtin(name, arity)
+            || (!self.library && crate::builtins::is_protected(self.interner, name, arity));
+        if !protected {
             return true;
         }
         if name == sym::COMMA && self.ends_line(head.name_span()) {

@@ -4,6 +4,7 @@
 //!
 //! - [`load`]: files and their includes to parsed clauses in program order;
 //! - [`lower`]: clauses to the resolved KB (HIR);
+//! - [`library`]: the clauses of std/library.pl the KB calls;
 //! - [`check`]: whole-KB checks on the HIR;
 //! - [`open_init`]: the values tried for the variables of a problem's initial facts.
 //!
@@ -11,6 +12,7 @@
 
 pub mod bt;
 pub mod check;
+pub mod library;
 pub mod load;
 pub mod lower;
 pub mod open_init;

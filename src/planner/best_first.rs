@@ -1176,7 +1176,7 @@ mod tests {
         let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
         let problem = frontend.kb.problems.len() - 1;
         let mut task = crate::passes::task::build(&frontend.kb, problem);
-        let program = super::super::program_for(&frontend.kb, problem);
+        let program = super::super::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         let mut relaxation = Relaxation::new(&task);
         let init = task.init.clone();

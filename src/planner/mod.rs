@@ -336,18 +336,23 @@ impl Progress for Silent {
 }
 
 /// The program a problem's OnKB goals are proven against: the KB plus the goal's facts.
-pub fn program_for(kb: &Kb, problem: usize) -> Program {
+pub fn program_for(kb: &Kb, interner: &crate::intern::Interner, problem: usize) -> Program {
     let problem = &kb.problems[problem];
     let goal_facts: Vec<_> = problem.goal.iter().map(|l| (l, &problem.vars)).collect();
-    Program::new(kb, &goal_facts)
+    Program::new(kb, interner, &goal_facts)
 }
 
 /// The heuristic search's interchangeable constants, if it is to use them and there are any.
-fn symmetry_for(kb: &Kb, task: &mut Task, options: &Options) -> Option<symmetry::Symmetry> {
+fn symmetry_for(
+    kb: &Kb,
+    interner: &crate::intern::Interner,
+    task: &mut Task,
+    options: &Options,
+) -> Option<symmetry::Symmetry> {
     if options.search != SearchKind::Heuristic || !options.symmetry {
         return None;
     }
-    Some(symmetry::Symmetry::new(kb, task)).filter(|s| !s.is_empty())
+    Some(symmetry::Symmetry::new(kb, interner, task)).filter(|s| !s.is_empty())
 }
 
 /// Runs the chosen search on `task`.
@@ -434,7 +439,7 @@ pub fn search_prepared(
         let elapsed = started.elapsed();
         Stats { elapsed, setup: elapsed, evaluated, ..Stats::default() }
     };
-    let program = program_for(kb, task.problem);
+    let program = program_for(kb, interner, task.problem);
     let unsolvable =
         analysis::exclusive_goals(kb, task, interner).or_else(|| analysis::missing_units(kb, task, interner));
     if let Some(diagnostic) = unsolvable {
@@ -505,7 +510,7 @@ pub fn search_prepared(
             return Outcome::failed(result, before_search(1));
         }
     }
-    let symmetry = symmetry_for(kb, task, options);
+    let symmetry = symmetry_for(kb, interner, task, options);
     let setup = started.elapsed();
     let mut outcome = match options.search {
         SearchKind::Paper => {
@@ -547,7 +552,7 @@ pub fn search_prepared(
                     Ok(relaxation) => relaxation,
                     Err(stop) => return Outcome::failed(stop.into(), outcome.stats),
                 };
-                let symmetry = symmetry_for(kb, task, options);
+                let symmetry = symmetry_for(kb, interner, task, options);
                 let mut retry = best_first::search(
                     task,
                     successors,

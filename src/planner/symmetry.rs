@@ -22,9 +22,12 @@
 //! program the engine proves OnKB goals with, and swapping two constants reorders those
 //! clauses; solutions are then the same set in another order, which only matters where the
 //! first solution is all that is used: so a candidate may appear in such facts only if the KB
-//! has no cut and no if-then-else, and `duration/3` (of which the first answer counts) cannot
-//! reach their predicates. The built-ins (`src/builtins.rs`) treat all atoms alike: none
-//! compares atoms by their order or takes their names apart.
+//! has no cut, no if-then-else and no built-in whose answer depends on the order of solutions
+//! (`findall/3`, `once/1`: `Reads::Order` in `src/builtins.rs`), and `duration/3` (of which
+//! the first answer counts) cannot reach their predicates. A KB that calls a built-in that
+//! compares atoms by name (`compare/3`, `sort/2`, `@<`: `Reads::Names`) anywhere, its library
+//! clauses included, or calls a goal only known at run time (`call(G)`, `findall(X, G, L)`),
+//! has no candidates at all: nothing bounds what such a call tells apart.
 //!
 //! In a state ([`Symmetry::classes`]), each candidate's *signature* is what the task says of
 //! it (above) and what the state's facts and running actions say of it, each with the
@@ -109,20 +112,70 @@ fn goal_literals<'a>(goal: &'a Goal, out: &mut Vec<&'a Literal>) {
     goal.for_each_call(&mut |l| out.push(l));
 }
 
-/// True if `goal` has a cut or an if-then-else anywhere.
+/// True if `goal` has a cut or an if-then-else anywhere, the goals a built-in calls included.
 fn commits(goal: &Goal) -> bool {
     match goal {
         Goal::Call(l) => l.term == Term::Atom(sym::CUT),
         Goal::And(goals) => goals.iter().any(commits),
         Goal::Or(branches) => branches.iter().any(|b| !b.conditions.is_empty() || commits(&b.goal)),
         Goal::Not(g) => commits(g),
+        Goal::Meta(meta) => {
+            let mut found = false;
+            let mut pending = vec![&meta.call.term];
+            while let Some(term) = pending.pop() {
+                match term {
+                    Term::Atom(s) => found |= *s == sym::CUT,
+                    Term::Compound(f, args) => {
+                        found |= *f == sym::ARROW && args.len() == 2;
+                        pending.extend(args.iter());
+                    }
+                    _ => {}
+                }
+            }
+            found
+        }
     }
+}
+
+/// What the built-ins `goal` calls can tell apart: whether one depends on the order of
+/// solutions, and whether one compares atoms by name or (where `dynamic_counts`) calls a goal
+/// known only at run time. The library's clauses call such goals only as they are given them,
+/// by a call of the KB's that names them or holds a variable there, so for them it does not.
+fn reads(goal: &Goal, interner: &crate::intern::Interner, dynamic_counts: bool, order: &mut bool, names: &mut bool) {
+    goal.for_each_called(&mut |literal, extra| {
+        let Some(builtin) = crate::builtins::lookup(interner, literal.name(), literal.arity() + extra) else { return };
+        *order |= builtin.reads == crate::builtins::Reads::Order;
+        *names |= builtin.reads == crate::builtins::Reads::Names;
+        let dynamic = dynamic_counts
+            && extra == 0
+            && builtin.imp != crate::builtins::Imp::Engine
+            && builtin.calls.iter().any(|c| matches!(literal.term.args().get(c.arg), Some(Term::Var(_))));
+        *names |= dynamic;
+    });
 }
 
 impl Symmetry {
     /// The candidates of `task`, a problem of `kb` (see the module's documentation).
-    pub fn new(kb: &Kb, task: &mut Task) -> Symmetry {
+    pub fn new(kb: &Kb, interner: &crate::intern::Interner, task: &mut Task) -> Symmetry {
         let problem = &kb.problems[task.problem];
+        // Built-ins that tell atoms apart or depend on the order of solutions.
+        let (mut order, mut names) = (false, false);
+        for action in &kb.actions {
+            action.on_kb.iter().for_each(|g| reads(g, interner, true, &mut order, &mut names));
+        }
+        for clause in &kb.clauses {
+            if let Some(body) = &clause.body {
+                reads(body, interner, true, &mut order, &mut names);
+            }
+        }
+        for clause in &kb.library {
+            if let Some(body) = &clause.body {
+                reads(body, interner, false, &mut order, &mut names);
+            }
+        }
+        if names {
+            return Symmetry::none(task);
+        }
         // Atoms written anywhere they could be told apart.
         let mut excluded: FxHashSet<Symbol> = FxHashSet::default();
         let mut exclude = |literal: &Literal| atoms_of(&literal.term, |s, _| _ = excluded.insert(s));
@@ -144,7 +197,8 @@ impl Symmetry {
         literals.extend(&problem.open_init);
         // Ground facts of the task: static unit clauses and ground goal literals.
         let mut facts: Vec<(u8, &Literal)> = Vec::new();
-        let mut commit = kb.actions.iter().any(|a| a.on_kb.iter().any(commits));
+        let mut commit = order || kb.actions.iter().any(|a| a.on_kb.iter().any(commits));
+        commit |= kb.library.iter().any(|c| c.body.as_deref().is_some_and(commits));
         for clause in &kb.clauses {
             match &clause.body {
                 Some(body) => {
@@ -231,6 +285,19 @@ impl Symmetry {
             })
             .collect();
         symmetry
+    }
+
+    /// No candidates: the search prunes nothing.
+    fn none(task: &Task) -> Symmetry {
+        Symmetry {
+            candidates: Vec::new(),
+            index: vec![u32::MAX; task.consts.len()],
+            templates: HashMap::default(),
+            facts: Vec::new(),
+            running: FxHashMap::default(),
+            task_class: Vec::new(),
+            pairs: Vec::new(),
+        }
     }
 
     /// True when no constant is a candidate (the search then prunes nothing).
@@ -431,7 +498,10 @@ impl Symmetry {
     }
 }
 
-/// The predicates (name, arity) `duration/3`'s clauses call, directly or not.
+/// The predicates (name, arity) `duration/3`'s clauses call, directly or not, the closures
+/// of `maplist/N` and the like with their arity as called (the library's own clauses call
+/// nothing of the KB's but what they are given). A goal known only at run time reaches no
+/// predicate here: [`Symmetry::new`] has left such a KB without candidates.
 fn reachable_from_durations(kb: &Kb) -> FxHashSet<(Symbol, usize)> {
     let mut reached: FxHashSet<(Symbol, usize)> = FxHashSet::default();
     let mut todo = vec![(sym::DURATION, 3)];
@@ -441,9 +511,9 @@ fn reachable_from_durations(kb: &Kb) -> FxHashSet<(Symbol, usize)> {
         }
         for clause in kb.clauses.iter().filter(|c| c.head.term.callable() == Some(pred)) {
             if let Some(body) = &clause.body {
-                body.for_each_call(&mut |l| {
-                    if let Some(callee) = l.term.callable() {
-                        todo.push(callee);
+                body.for_each_called(&mut |l, extra| {
+                    if let Some((name, arity)) = l.term.callable() {
+                        todo.push((name, arity + extra));
                     }
                 });
             }

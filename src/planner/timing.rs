@@ -380,7 +380,7 @@ mod tests {
         let (_, frontend, _) = crate::session::Session::from_text(&rung.name(), rung.source()).into_parts();
         let problem = frontend.kb.problems.len() - 1;
         let mut task = crate::passes::task::build(&frontend.kb, problem);
-        let program = crate::planner::program_for(&frontend.kb, problem);
+        let program = crate::planner::program_for(&frontend.kb, &frontend.interner, problem);
         let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
         // A walk of up to 40 steps, each the applicable action of index `pick(step)` (modulo
         // how many apply): the actions and the states before each and after the last.

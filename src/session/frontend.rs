@@ -6,7 +6,7 @@ use crate::diag::{Diagnostic, Diagnostics};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Kb};
 use crate::passes::load::{self, Loaded, NoIncludes, SourceLoader};
-use crate::passes::{check, lower};
+use crate::passes::{check, library, lower};
 use crate::source::{FileId, SourceDb};
 use crate::stdlib;
 use crate::syntax::ast::TermKind;
@@ -85,6 +85,14 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
         },
     );
     kb.uses_std_domain = uses_std_domain;
+    let roots = library::roots(&kb, interner.len(), loaded.files.iter().map(|f| db.text(f.file)), &interner);
+    if !roots.is_empty() {
+        kb.library = super::timing::time(
+            "library",
+            || library::library(&kb, roots, db, &mut interner),
+            |clauses| plural(clauses.len(), "clause"),
+        );
+    }
     verify_hir(&kb, db, &interner);
     let before = (diags.error_count(), diags.len());
     super::timing::time(

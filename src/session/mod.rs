@@ -559,7 +559,9 @@ impl Session {
     /// The resolution program of `problem`: the KB with its goal's facts.
     pub fn program(&mut self, problem: usize) -> Rc<Program> {
         self.grow();
-        self.programs[problem].get_or_insert_with(|| Rc::new(planner::program_for(&self.frontend.kb, problem))).clone()
+        self.programs[problem]
+            .get_or_insert_with(|| Rc::new(planner::program_for(&self.frontend.kb, &self.frontend.interner, problem)))
+            .clone()
     }
 
     /// The problems that `problem` stands for when its high-level initial facts have variables

@@ -64,3 +64,22 @@ last_if(X) :- ( X = 1 ; member(X, [2, 3]) -> true ).
 last_if_fails(X) :- ( X = 1 ; fail -> true ).
 cut_in_branch(X) :- ( member(X, [1, 2]) -> true ; X = 3 ; ! ; X = 4 ).
 cut_in_branch(5).
+
+% For the library queries: a closure, a comparison for predsort/3, facts to aggregate.
+double(X, Y) :- Y is 2 * X.
+add(X, Acc0, Acc) :- Acc is Acc0 + X.
+positive(X) :- X > 0.
+by_second(O, _-A, _-B) :- compare(O, A, B).
+score(ann, 3).
+score(bob, 5).
+score(cid, 5).
+score(dan, 1).
+owns(ann, cat).
+owns(bob, dog).
+owns(ann, fish).
+owns(cid, cat).
+
+% A term as nested lists, name first: how it was read, whatever operators it was written with.
+tree(T, T) :- atomic(T), !.
+tree(T, V) :- var(T), !, V = var.
+tree(T, [F|Ts]) :- T =.. [F|As], maplist(tree, As, Ts).
