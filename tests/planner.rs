@@ -1046,9 +1046,23 @@ fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
             &[("a1", "a3")],
             &[("a1", "a2"), ("a2", "a3")],
         ),
-        // With a cut, reordering the agents' facts could change a first solution: facts
-        // with a candidate are then not swapped.
-        ("agents as facts and a cut", format!("{}first_agent(A) :- agent(A), !.\n", grid.source()), &[], &[], &[]),
+        // With a cut planning can reach (an OnKB goal calls `pos/2`), reordering the agents'
+        // facts could change a first solution: facts with a candidate are then not swapped.
+        (
+            "agents as facts and a cut",
+            format!("{}first_agent(A) :- agent(A), !.\npos(9, 9) :- first_agent(_).\n", grid.source()),
+            &[],
+            &[],
+            &[],
+        ),
+        // A cut in a rule planning never calls changes nothing.
+        (
+            "agents as facts and a cut nothing calls",
+            format!("{}first_agent(A) :- agent(A), !.\n", grid.source()),
+            &GRID,
+            &[("a1", "a3")],
+            &[("b1", "b2")],
+        ),
         // `duration/3`'s first answer counts: its rules must not reach the agents' facts.
         (
             "durations that read the agents",
@@ -1060,7 +1074,7 @@ fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
         // A list of solutions is in the order of the facts, as a cut's first solution is.
         (
             "agents as facts and a findall",
-            format!("{}agents(L) :- findall(A, agent(A), L).\n", grid.source()),
+            format!("{}agents(L) :- findall(A, agent(A), L).\npos(9, 9) :- agents([]).\n", grid.source()),
             &[],
             &[],
             &[],
@@ -1068,28 +1082,42 @@ fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
         // Counting solutions with a library predicate that has an if-then-else inside.
         (
             "agents as facts and a library if-then-else",
-            format!("{}some(L, K) :- include(agent, L, K).\n", grid.source()),
+            format!("{}some(L, K) :- include(agent, L, K).\npos(9, 9) :- some([], [x]).\n", grid.source()),
             &[],
             &[],
             &[],
         ),
+        // (Each rule below is called through `pos/2` or `cell/2`, which OnKB goals call: rules
+        // planning never calls change nothing.)
         // A built-in that orders atoms by name tells every atom apart, wherever they come from.
         (
             "arms in the states and an order of atoms",
-            format!("{}before(A, B) :- A @< B.\n", blocks.source()),
+            format!("{}before(A, B) :- A @< B.\ncell(9, 9) :- before(9, 1).\n", blocks.source()),
             &[],
             &[],
             &[],
         ),
-        ("arms in the states and a sort", format!("{}sorted(L, S) :- msort(L, S).\n", blocks.source()), &[], &[], &[]),
+        (
+            "arms in the states and a sort",
+            format!("{}sorted(L, S) :- msort(L, S).\ncell(9, 9) :- sorted([], [x]).\n", blocks.source()),
+            &[],
+            &[],
+            &[],
+        ),
         // So does a goal known only at run time: it could be any of them.
-        ("arms in the states and a call", format!("{}run(G) :- call(G).\n", blocks.source()), &[], &[], &[]),
+        (
+            "arms in the states and a call",
+            format!("{}run(G) :- call(G).\ncell(9, 9) :- run(fail).\n", blocks.source()),
+            &[],
+            &[],
+            &[],
+        ),
         // Built-ins that treat atoms alike and do not depend on the order of solutions leave
         // them interchangeable, even one that calls a goal named in the KB.
         (
             "arms in the states and alike built-ins",
             format!(
-                "{}cells(N) :- between(1, 5, N), length(L, N), is_list(L).\nall_on(L) :- forall(member(B, L), block(B)).\nblock(_).\n",
+                "{}cells(N) :- between(1, 5, N), length(L, N), is_list(L).\nall_on(L) :- forall(member(B, L), block(B)).\nblock(_).\ncell(9, 9) :- cells(9), all_on([]).\n",
                 blocks.source()
             ),
             &["a1", "a2", "a3", "b2", "b6"],

@@ -525,6 +525,36 @@ impl Kb {
         self.problems.iter().find(|p| p.name == name)
     }
 
+    /// The predicates planning can call: those the actions' OnKB goals and the `duration/3`
+    /// clauses call, directly or through rules, a closure with the arity it is called with
+    /// (`maplist(p, L)` calls `p/1`). A goal known only at run time (`call(G)`) reaches
+    /// nothing here; an analysis that must account for it looks for one in these predicates'
+    /// clauses. Rules outside it never run while kbc plans (a KB's own planner, test wrappers).
+    pub fn predicates_run(&self) -> std::collections::BTreeSet<(Symbol, usize)> {
+        let mut reached = std::collections::BTreeSet::new();
+        let mut pending: Vec<(Symbol, usize)> = vec![(sym::DURATION, 3)];
+        for action in &self.actions {
+            for goal in &action.on_kb {
+                goal.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
+            }
+        }
+        let mut by_head: std::collections::BTreeMap<(Symbol, usize), Vec<&Clause>> = Default::default();
+        for clause in &self.clauses {
+            by_head.entry((clause.head.name(), clause.head.arity())).or_default().push(clause);
+        }
+        while let Some(key) = pending.pop() {
+            if !reached.insert(key) {
+                continue;
+            }
+            for clause in by_head.get(&key).into_iter().flatten() {
+                if let Some(body) = &clause.body {
+                    body.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
+                }
+            }
+        }
+        reached
+    }
+
     /// High-level action schemas.
     pub fn high_level_actions(&self) -> impl Iterator<Item = &Action> {
         self.actions.iter().filter(|a| a.level == Level::High)

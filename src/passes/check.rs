@@ -123,6 +123,20 @@ impl Vocabulary {
     }
 }
 
+/// The facts kbc reads as declarations rather than as clauses of the KB's program.
+const DATA_DECLARATIONS: &[(&str, usize)] = &[
+    ("action", 6),
+    ("ll_action", 6),
+    ("mapping", 2),
+    ("resources", 1),
+    ("init_state", 1),
+    ("goal_state", 1),
+    ("hl_init", 1),
+    ("hl_goal", 1),
+    ("ll_init", 1),
+    ("ll_goal", 1),
+];
+
 /// Where a literal is used, for messages and severities.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum StateUse {
@@ -455,6 +469,43 @@ impl Checker<'_> {
         }
     }
 
+    /// The predicates of a planner the KB brings along, as the paper's authors ship it: its
+    /// `go/N` rules and the rules that read what kbc reads as declarations (`action/6`,
+    /// `mapping/2`, ...) as facts, with every predicate they call, but those planning calls
+    /// too ([`Kb::predicates_run`]). kbc plans the problems itself, so it runs none of these.
+    fn own_planner(&self) -> BTreeSet<Key> {
+        let mut rules: BTreeMap<Key, Vec<&Goal>> = BTreeMap::new();
+        for clause in &self.kb.clauses {
+            if let Some(body) = &clause.body {
+                rules.entry((clause.head.name(), clause.head.arity())).or_default().push(body);
+            }
+        }
+        let mut pending: Vec<Key> = Vec::new();
+        for (&key, bodies) in &rules {
+            let mut reads_declarations = false;
+            for body in bodies {
+                body.for_each_called(&mut |l, extra| {
+                    reads_declarations |= DATA_DECLARATIONS.contains(&(self.name(l.name()), l.arity() + extra));
+                });
+            }
+            if key.0 == sym::GO || reads_declarations {
+                pending.push(key);
+            }
+        }
+        let mut planner: BTreeSet<Key> = BTreeSet::new();
+        while let Some(key) = pending.pop() {
+            if !planner.insert(key) {
+                continue;
+            }
+            for body in rules.get(&key).into_iter().flatten() {
+                body.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
+            }
+        }
+        let run = self.kb.predicates_run();
+        planner.retain(|key| rules.contains_key(key) && !run.contains(key));
+        planner
+    }
+
     fn names(&mut self) {
         let kb = self.kb;
         for action in &kb.actions {
@@ -478,7 +529,27 @@ impl Checker<'_> {
             }
         }
         let wrappers = self.test_wrappers();
+        let planner = self.own_planner();
+        if let Some(first) = kb.clauses.iter().find(|c| planner.contains(&(c.head.name(), c.head.arity()))) {
+            let mut shown: Vec<String> = planner.iter().map(|&key| format!("`{}`", self.indicator(key))).collect();
+            let more = shown.len().saturating_sub(6);
+            shown.truncate(6);
+            let list = if more > 0 { format!("{} and {more} more", shown.join(", ")) } else { shown.join(", ") };
+            self.diags.push(
+                Diagnostic::note(
+                    "the KB brings a planner of its own: kbc plans the problems itself and runs none of it",
+                )
+                .primary(first.head.span, "its first clause")
+                .with_note(format!(
+                    "the planner's predicates, which nothing kbc runs calls (OnKB goals, `duration/3`): {list}"
+                ))
+                .with_help("choose a problem with `--problem NAME`; `--search paper` is the paper's search"),
+            );
+        }
         for (index, clause) in kb.clauses.iter().enumerate() {
+            if planner.contains(&(clause.head.name(), clause.head.arity())) {
+                continue;
+            }
             if wrappers.contains(&index) {
                 let shown = self.indicator((clause.head.name(), clause.head.arity()));
                 self.diags.push(
@@ -517,17 +588,21 @@ impl Checker<'_> {
                 }
                 _ => "state facts are atoms or compounds such as `clear(b1)`".to_string(),
             };
-            self.diags.push(
-                Diagnostic::error(
-                    codes::UNKNOWN_PREDICATE,
-                    format!("`{indicator}` is a built-in test, not a state fact"),
-                )
-                .primary(literal.span, format!("used as {}", used.describe()))
-                .with_note(
-                    "conditions of this kind are matched against the facts of the state, which never hold built-ins",
-                )
-                .with_help(help),
+            // Prolog gives it a meaning (a state fact of that name, which no state holds unless
+            // an effect adds one), so only a goal that can never hold is an error.
+            let message = format!("`{indicator}` is a built-in test, not a state fact");
+            let diagnostic = if used == StateUse::Goal {
+                Diagnostic::error(codes::UNKNOWN_PREDICATE, message)
+            } else {
+                Diagnostic::warning(codes::NEVER_PRODUCED, message)
+            };
+            let mut diagnostic = diagnostic.primary(literal.span, format!("used as {}", used.describe())).with_note(
+                "conditions of this kind are matched against the facts of the state, which never hold built-ins",
             );
+            if used == StateUse::Valid {
+                diagnostic = diagnostic.with_note("so this action can never apply");
+            }
+            self.diags.push(diagnostic.with_help(help));
             return;
         }
         if self.vocabulary.state_known(key) {
@@ -608,8 +683,9 @@ impl Checker<'_> {
         if builtins::is_builtin_predicate(key.0, key.1) {
             let indicator = self.indicator(key);
             self.diags.push(
-                Diagnostic::error(codes::UNKNOWN_PREDICATE, format!("`{indicator}` is a built-in, not a state fact"))
+                Diagnostic::warning(codes::NEVER_PRODUCED, format!("`{indicator}` is a built-in, not a state fact"))
                     .primary(literal.span, "added by an effect")
+                    .with_note(format!("this adds a state fact named `{indicator}`, which only a condition can read"))
                     .with_help("effects add facts such as `clear(B)`"),
             );
         }
@@ -739,7 +815,16 @@ impl Checker<'_> {
         let indicator = self.indicator(key);
         let mut diagnostic = Diagnostic::error(codes::UNKNOWN_PREDICATE, format!("unknown predicate `{indicator}`"))
             .primary(literal.name_span, "no clause defines it and it is not a built-in");
-        if self.vocabulary.state_known(key) {
+        if DATA_DECLARATIONS.contains(&(self.name(key.0), key.1)) {
+            diagnostic = diagnostic
+                .with_note(format!(
+                    "kbc reads the `{indicator}` facts as declarations, not as clauses that OnKB goals and the rules \
+                     they call could read"
+                ))
+                .with_help(
+                    "a rule kbc runs cannot look the KB's declarations up; name what it needs in facts of its own",
+                );
+        } else if self.vocabulary.state_known(key) {
             diagnostic = diagnostic
                 .with_note(format!(
                     "`{indicator}` is a state fact, but OnKB goals and rule bodies are proven against the KB"

@@ -159,11 +159,15 @@ impl Symmetry {
     pub fn new(kb: &Kb, interner: &crate::intern::Interner, task: &mut Task) -> Symmetry {
         let problem = &kb.problems[task.problem];
         // Built-ins that tell atoms apart or depend on the order of solutions.
+        // Only the rules planning can call matter: a rule nothing kbc runs calls (a KB's own
+        // planner, a test wrapper) never tells anything apart.
+        let run = kb.predicates_run();
+        let runs = |clause: &&crate::ir::hir::Clause| run.contains(&(clause.head.name(), clause.head.arity()));
         let (mut order, mut names) = (false, false);
         for action in &kb.actions {
             action.on_kb.iter().for_each(|g| reads(g, interner, true, &mut order, &mut names));
         }
-        for clause in &kb.clauses {
+        for clause in kb.clauses.iter().filter(runs) {
             if let Some(body) = &clause.body {
                 reads(body, interner, true, &mut order, &mut names);
             }
@@ -201,6 +205,7 @@ impl Symmetry {
         commit |= kb.library.iter().any(|c| c.body.as_deref().is_some_and(commits));
         for clause in &kb.clauses {
             match &clause.body {
+                Some(_) if !runs(&clause) => {}
                 Some(body) => {
                     commit |= commits(body);
                     literals.push(&clause.head);
