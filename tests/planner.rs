@@ -1592,3 +1592,32 @@ fn a_search_that_stalls_on_h_ff_takes_turns_with_a_list_ranked_by_h_add() {
     let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
     assert_eq!(outcome.stats.summed_from, None);
 }
+
+/// A counter nothing bounds: `push_end` adds `at(box, X1)` with `X1 is X + 1`, so ignoring
+/// deletions the boxes stand everywhere from 1 on, and an exploration of the relaxation that
+/// does not stop at its goals never ends.
+const ENDLESS_COUNTER: &str = "\
+action(push_start(R, B), [free(R), at(B, X)], [], [], [X < 3], [del(free(R)), add(pushing(R, B))]).
+action(push_end(R, B), [pushing(R, B), at(B, X)], [], [], [X1 is X + 1], [del(pushing(R, B)), del(at(B, X)), add(at(B, X1)), add(free(R))]).
+reachable :- go([free(r1), at(box, 1)], [at(box, 3)]).
+never :- go([free(r1), at(box, 1)], [at(box, 0)]).
+";
+
+#[test]
+fn a_relaxation_without_end_is_evaluated_lifted_or_stops_with_a_diagnostic() {
+    let frontend = from_text("counter.pl", ENDLESS_COUNTER.to_string());
+    let options = Options { budget: Budget { max_new_constants: 2_000, ..budget(60) }, ..Options::default() };
+    // Grounding gives up; the lifted relaxation of a state stops at the goals it reaches.
+    let reachable = problem(&frontend, "reachable");
+    let mut task = passes::task::build(&frontend.kb, reachable);
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    let plan = outcome.result.unwrap_or_else(|failure| panic!("no plan: {failure:?}"));
+    assert_eq!(plan.steps.len(), 4, "two pushes");
+    assert_valid(&frontend, reachable, &plan);
+    // A goal it never reaches: the exploration would go on for ever; it stops with its reason.
+    let never = problem(&frontend, "never");
+    let mut task = passes::task::build(&frontend.kb, never);
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    assert_eq!(outcome.result.err(), Some(planner::Failure::Budget(planner::BudgetKind::Constants)));
+    assert!(task.consts.len() < 10_000, "it stopped near the limit: {} constants", task.consts.len());
+}

@@ -141,10 +141,22 @@ impl Loader<'_> {
         self.stack.pop();
     }
 
+    /// A file name written as SWI-Prolog reads one: an atom or string, or path segments joined
+    /// by `/` (`kb/actions`, `'..'/shared`).
+    fn file_name(&self, term: &Term) -> Option<String> {
+        match &term.kind {
+            TermKind::Atom(s) | TermKind::Str(s) => Some(self.interner.resolve(*s).to_string()),
+            TermKind::Compound(c) if c.functor == sym::SLASH && c.args.len() == 2 => {
+                Some(format!("{}/{}", self.file_name(&c.args[0])?, self.file_name(&c.args[1])?))
+            }
+            _ => None,
+        }
+    }
+
     fn follow(&mut self, from: FileId, kind: LoadKind, argument: &Term, directive: Span) {
-        let name = match &argument.kind {
-            TermKind::Atom(s) | TermKind::Str(s) => self.interner.resolve(*s).to_string(),
-            _ => {
+        let name = match self.file_name(argument) {
+            Some(name) => name,
+            None => {
                 self.diags.push(
                     Diagnostic::error(codes::BAD_LOAD_DIRECTIVE, "expected a file name")
                         .primary(argument.span, "not a file name")
@@ -240,6 +252,16 @@ fn load_directive(term: &Term) -> Option<(LoadKind, Vec<&Term>)> {
             Some((LoadKind::Include, vec![&c.args[0]]))
         }
         TermKind::Compound(c) if c.functor == sym::ENSURE_LOADED && c.args.len() == 1 => {
+            Some((LoadKind::EnsureLoaded, vec![&c.args[0]]))
+        }
+        // `use_module(File)` and `use_module(File, Imports)` of a file of the KB's own (not
+        // `library(...)`): loaded once, as SWI-Prolog loads it, its clauses read as plain
+        // clauses (kbc has no modules).
+        TermKind::Compound(c)
+            if c.functor == sym::USE_MODULE
+                && matches!(c.args.len(), 1 | 2)
+                && c.args[0].as_compound(sym::LIBRARY, 1).is_none() =>
+        {
             Some((LoadKind::EnsureLoaded, vec![&c.args[0]]))
         }
         TermKind::List(list) if !list.items.is_empty() && list.tail.is_none() => {

@@ -401,6 +401,15 @@ impl Lowerer<'_> {
                         .contains(&self.interner.resolve(name)),
                     _ => false,
                 }) => {}
+            (sym::MODULE, 2) => {
+                // A file of a KB split into modules: its clauses are the KB's all the same.
+                let shown = self.show(&goal.args()[0]);
+                self.diags.push(
+                    Diagnostic::note(format!("module `{shown}` read as plain clauses"))
+                        .primary(goal.span, "kbc has no modules: every file's clauses are one KB")
+                        .with_note("`use_module/1` of a file loads it once, as `ensure_loaded/1` does"),
+                );
+            }
             _ if crate::builtins::is_debugger(self.interner.resolve(name), goal.args().len()) => {
                 // Nothing to do with planning, so a note rather than a warning.
                 let shown = self.show(goal);

@@ -485,7 +485,7 @@ pub fn explain_unreachable(
     };
     let init = task.init.clone();
     let Explainer { relaxation, machine, cache, .. } = &mut explainer;
-    relaxation.limit(budget.deadline, budget.max_bytes);
+    relaxation.limit(budget);
     relaxation.evaluate_all(task, &init, machine, cache).ok()?;
     let unreached = explainer.relaxation.unreached_goals().to_vec();
     let &first = unreached.first()?;

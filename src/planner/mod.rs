@@ -102,6 +102,9 @@ pub struct Budget {
     /// heuristic is evaluated lifted, state by state (slower, same estimates without Invalid
     /// conditions and landmarks).
     pub max_ground_actions: usize,
+    /// The most values one exploration of the delete relaxation may add to the task's before
+    /// the relaxation counts as endless ([`BudgetKind::Constants`]).
+    pub max_new_constants: usize,
 }
 
 impl Default for Budget {
@@ -112,6 +115,7 @@ impl Default for Budget {
             max_bytes: 2 << 30,
             engine_steps: 1_000_000,
             max_ground_actions: 1_000_000,
+            max_new_constants: relaxed::MAX_NEW_CONSTANTS,
         }
     }
 }
@@ -256,6 +260,10 @@ pub enum BudgetKind {
     Time,
     /// The memory ceiling.
     Memory,
+    /// The delete relaxation kept making values the problem does not have (OnKB arithmetic
+    /// without a bound, `X1 is X + 1`): more than `Budget::max_new_constants` in one
+    /// exploration, which then never ends.
+    Constants,
 }
 
 impl From<relaxed::Stop> for Failure {
@@ -463,7 +471,7 @@ pub fn search_prepared(
     let root = match (options.search, reused) {
         (SearchKind::Heuristic, Some(reused)) => {
             let mut reused_relaxation = reused.relaxation.clone();
-            reused_relaxation.limit(options.budget.deadline, options.budget.max_bytes);
+            reused_relaxation.limit(&options.budget);
             relaxation = Some(reused_relaxation);
             Ok(reused.root.clone())
         }
@@ -484,7 +492,7 @@ pub fn search_prepared(
         },
         (SearchKind::Paper, _) => {
             let mut lifted = relaxed::Relaxation::new(task);
-            lifted.limit(options.budget.deadline, options.budget.max_bytes);
+            lifted.limit(&options.budget);
             let (machine, cache) = successors.parts();
             let estimate = lifted.evaluate(task, &init, machine, cache, false);
             lifted.discard();
@@ -592,7 +600,7 @@ fn ground_relaxation(
     budget: &Budget,
 ) -> Result<relaxed::Relaxation, relaxed::Stop> {
     let mut relaxation = relaxed::Relaxation::new(task);
-    relaxation.limit(budget.deadline, budget.max_bytes);
+    relaxation.limit(budget);
     let (machine, cache) = successors.parts();
     match relaxation.ground(task, machine, cache, budget.max_ground_actions, true) {
         Ok(_) => Ok(relaxation),
@@ -635,6 +643,23 @@ pub fn failure_diagnostic(
                 BudgetKind::Time => (format!("time after {:.1} s", stats.elapsed.as_secs_f64()), "raise `--timeout`"),
                 BudgetKind::Memory => {
                     (format!("its budget of {} MB of memory", options.budget.max_bytes >> 20), "raise `--max-memory`")
+                }
+                BudgetKind::Constants => {
+                    return Diagnostic::error(
+                        codes::SEARCH_BUDGET,
+                        format!("the search for `{problem}` stopped: its relaxation makes new values without end"),
+                    )
+                    .with_note(format!(
+                        "ignoring deletions (as the heuristic does), the actions' OnKB goals computed more than {} \
+                         values the problem does not have, and would go on: a counter such as `X1 is X + 1` that \
+                         nothing bounds",
+                        options.budget.max_new_constants
+                    ))
+                    .with_note(format!("no plan found so far: {}", figures))
+                    .with_help(
+                        "bound the value in the OnKB goals of the action that computes it (`X1 is X + 1, X1 =< 10`), \
+                         or try `--search paper`, which uses no heuristic",
+                    );
                 }
             };
             let diagnostic =

@@ -369,18 +369,30 @@ struct Limits {
     /// nanoseconds: growing a table of tens of millions of entries takes seconds, so the next
     /// growth is predicted from it and not begun if it would end past the deadline.
     rehash_ns: f64,
+    /// The most values one exploration may add to the task's ([`MAX_NEW_CONSTANTS`] unless
+    /// the budget says otherwise).
+    max_new_constants: usize,
 }
 
 impl Limits {
     fn new(deadline: Option<std::time::Instant>, max_bytes: usize) -> Limits {
         // A guess until a growth is measured; a rehash moves an entry in some tens of ns.
-        Limits { deadline, max_bytes, ticks: 0, exhausted: None, rehash_ns: 20.0 }
+        Limits { deadline, max_bytes, ticks: 0, exhausted: None, rehash_ns: 20.0, max_new_constants: MAX_NEW_CONSTANTS }
     }
 }
 
 /// How often (in join steps) an exploration checks its budget: a few microseconds of work
 /// between two looks at the clock.
 const CHECK_EVERY: u32 = 4096;
+
+/// The most values (constants) one exploration may add to the task's, by default, before it
+/// stops with [`BudgetKind::Constants`]: an exploration ignores deletions, so OnKB arithmetic that
+/// nothing bounds (`X1 is X + 1` in a counter) makes new values for ever. A bounded task
+/// makes few (grounding a 100-block rung of the ladder adds 8, the KBs of
+/// benches/other_domains at most 4); an unbounded push counter reaches the limit in under a
+/// second, where grounding it to a million instantiations took three seconds and 870 MB and
+/// the lifted search for a goal it never reaches did not end.
+pub const MAX_NEW_CONSTANTS: usize = 250_000;
 
 /// Why an exploration stopped without an answer.
 #[derive(Clone, Debug, PartialEq)]
@@ -904,7 +916,9 @@ impl Relaxation {
         let init = task.init.clone();
         let explored = self.explore(task, &init, machine, cache, false, false);
         let recorder = self.recorder.take().expect("set above");
-        if recorder.overflowed {
+        // An exploration without end cannot be grounded; evaluated lifted, a state's stops at
+        // its goals, if it reaches them.
+        if recorder.overflowed || matches!(explored, Err(Stop::Budget(BudgetKind::Constants))) {
             return Ok(false);
         }
         explored?;
@@ -1076,8 +1090,9 @@ impl Relaxation {
     /// `deadline` or once its tables take more than `max_bytes`. [`Relaxation::ground`] also
     /// gives up grounding once its recorded instantiations would take more than half of
     /// `max_bytes`, and evaluation stays lifted (slower per state, but within memory).
-    pub fn limit(&mut self, deadline: Option<std::time::Instant>, max_bytes: usize) {
-        self.limits = Limits::new(deadline, max_bytes);
+    pub fn limit(&mut self, budget: &super::Budget) {
+        self.limits = Limits::new(budget.deadline, budget.max_bytes);
+        self.limits.max_new_constants = budget.max_new_constants;
     }
 
     /// The bytes the exploration tables, and while grounding the recorded instantiations, hold.
@@ -1373,9 +1388,13 @@ impl Relaxation {
         }
         let mut goal_bindings: Vec<Option<ConstId>> = vec![None; task.goal_vars];
         let mut trail = Vec::new();
+        let most_constants = task.consts.len().saturating_add(self.limits.max_new_constants);
         while remaining > 0 || !stop_at_goal {
             let Some(Reverse((cost, view, t))) = self.queue.pop() else { break };
             self.tick()?;
+            if task.consts.len() > most_constants {
+                return Err(Stop::Budget(BudgetKind::Constants));
+            }
             let table = &mut self.tables[view as usize];
             if table.done[t as usize] || cost > table.cost[t as usize] {
                 continue;
