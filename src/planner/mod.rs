@@ -677,6 +677,25 @@ pub fn failure_diagnostic(
             }
         }
         Failure::Unsolvable(diagnostic) => (**diagnostic).clone(),
+        Failure::Condition(error) if error.duration => {
+            let action = &kb.actions[task.schemas[error.schema].action];
+            let base = interner.resolve(action.base);
+            // The `duration/3` clause for this action, if it has one, else the action.
+            let clause = kb.clauses.iter().find(|c| {
+                c.head.term.callable() == Some((crate::intern::sym::DURATION, 3))
+                    && c.head.term.args()[0].callable().is_some_and(|(name, _)| name == action.base)
+            });
+            let diagnostic = Diagnostic::error(
+                codes::CONDITION_ERROR,
+                format!("proving the duration of `{base}` failed: {}", error.error.message(interner)),
+            );
+            match clause {
+                Some(clause) => diagnostic.primary(clause.head.span, "this `duration/3` clause"),
+                None => diagnostic.primary(action.name.span, "this durative action"),
+            }
+            .with_note("the search asks `duration/3` for the least time of each action it places")
+            .with_note("the search stops, as SWI-Prolog would on an uncaught error")
+        }
         Failure::Condition(error) => {
             let action = &kb.actions[task.schemas[error.schema].action];
             let name = interner.resolve(action.name.name());

@@ -1552,7 +1552,7 @@ impl Relaxation {
             Some(
                 cache
                     .solutions(machine, consts, &schemas[schema_index], schema_index, bindings)
-                    .map_err(|error| ConditionError { schema: schema_index, error })?,
+                    .map_err(|error| ConditionError { schema: schema_index, error, duration: false })?,
             )
         };
         let unbound: Vec<u32> =

@@ -41,6 +41,8 @@ pub struct ConditionError {
     pub schema: usize,
     /// What went wrong.
     pub error: EngineError,
+    /// Whether it was the schema's `duration/3` query that failed, not its OnKB goals.
+    pub duration: bool,
 }
 
 /// Binds a pattern to a ground constant, recording new bindings on `trail`.
@@ -782,7 +784,7 @@ impl<'p> Successors<'p> {
         let solutions = self
             .cache
             .solutions(&mut self.machine, cx.consts, cx.schema, cx.index, &self.bindings)
-            .map_err(|error| ConditionError { schema: cx.index, error })?;
+            .map_err(|error| ConditionError { schema: cx.index, error, duration: false })?;
         let unbound: Vec<u32> =
             self.cache.vars(cx.index).iter().copied().filter(|&v| self.bindings[v as usize].is_none()).collect();
         for i in 0..solutions.len() {

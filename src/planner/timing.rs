@@ -78,7 +78,7 @@ impl Durations {
                 });
                 Next::Stop
             })
-            .map_err(|error| ConditionError { schema, error })?;
+            .map_err(|error| ConditionError { schema, error, duration: true })?;
         let bounds = found.unwrap_or(default);
         self.cache.insert(instance, bounds);
         Ok(bounds)
