@@ -1225,3 +1225,89 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         failures.iter().take(4).cloned().collect::<Vec<_>>().join("\n\n")
     );
 }
+
+/// KBs whose OnKB goals call SWI-Prolog's built-ins and library predicates, in the order of
+/// whose solutions the paper's depth-first search finds its first plan.
+const LIBRARY_KBS: &[&str] = &[
+    // A grid from between/3; moves that climb by one diagonal.
+    "cell(X, Y) :- between(1, 3, X), between(1, 2, Y).
+action(move(R, X1, Y1, X2, Y2), [at(R, X1, Y1)], [], [], [cell(X2, Y2), X2 + Y2 =:= X1 + Y1 + 1], [del(at(R, X1, Y1)), add(at(R, X2, Y2))]).
+prob :- go([at(r, 1, 1)], [at(r, 3, 2)]).
+",
+    // Items ranked by findall/3, msort/2 and nth1/3.
+    "item(c). item(a). item(b).
+ranked(I, K) :- findall(X, item(X), L), msort(L, S), nth1(K, S, I).
+action(pick(I), [free], [picked(I)], [], [ranked(I, K), K =< 2], [add(picked(I))]).
+action(done, [picked(a), picked(b)], [], [], [], [del(free), add(finished)]).
+prob :- go([free], [finished]).
+",
+    // Loads checked with length/2, forall/2 and aggregate_all/3, merged with append/3.
+    "load(t2, [p3]). load(t1, [p1, p2]).
+action(ship(T), [ready(T)], [shipped(T)], [], [load(T, Ps), length(Ps, N), N > 0, forall(member(P, Ps), atom(P)), aggregate_all(count, load(_, _), 2)], [del(ready(T)), add(shipped(T))]).
+action(merge(T1, T2), [shipped(T1), shipped(T2)], [merged(_)], [], [T1 @< T2, load(T1, A), load(T2, B), append(A, B, All), length(All, 3)], [add(merged(All))]).
+prob :- go([ready(t1), ready(t2)], [merged([p1, p2, p3])]).
+",
+    // A durative step counted with succ/2.
+    "action(step_start(R, N), [at(R, N)], [], [], [succ(N, M), M =< 3], [del(at(R, N)), add(stepping(R, N))]).
+action(step_end(R, N), [stepping(R, N)], [], [], [succ(N, M)], [del(stepping(R, N)), add(at(R, M))]).
+prob :- go([at(r, 1)], [at(r, 3)]).
+",
+    // Cities from setof/3 and bagof/3, a tour closed with last/2 and reverse/2.
+    "road(b, c). road(a, b). road(c, a). road(a, c).
+action(visit(C), [todo], [visited(C)], [], [setof(X, Y^road(X, Y), Cs), member(C, Cs)], [add(visited(C))]).
+action(close, [visited(a), visited(b), visited(c)], [], [], [bagof(Y, road(a, Y), Ys), reverse(Ys, [Last|_]), last([a, b, Last], c)], [del(todo), add(toured)]).
+prob :- go([todo], [toured]).
+",
+    // Keys from pairs, sorted with sort/4 and keysort/2; a fold with foldl/4 and plus/3.
+    "cost(x, 3). cost(y, 1). cost(z, 2).
+cheapest(K) :- findall(C-K0, cost(K0, C), Ps), keysort(Ps, [_-K|_]).
+total(T) :- findall(C, cost(_, C), Cs), foldl(plus, Cs, 0, T).
+action(buy(K), [money(M)], [bought(K)], [], [cost(K, C), total(T), C < T, sort(0, @>=, [C, 1], [Top|_]), Top >= C, M >= C, M1 is M - C], [del(money(M)), add(money(M1)), add(bought(K))]).
+action(finish, [bought(K)], [], [], [cheapest(K)], [add(finished)]).
+prob :- go([money(4)], [finished]).
+",
+];
+
+#[test]
+fn the_paper_search_with_library_predicates_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
+    if std::process::Command::new("swipl").arg("--version").output().is_err() {
+        eprintln!("skipped: swipl is not installed");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("kbc-paper-library-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let support = std::fs::canonicalize("tests/support/paper_search.pl").expect("the Prolog planner");
+    const DEPTH: u32 = 8;
+    let mut failures = Vec::new();
+    let mut with_plan = 0;
+    for (index, text) in LIBRARY_KBS.iter().enumerate() {
+        let mut db = SourceDb::new();
+        let root = db.add(format!("library{index}.pl"), None, text.to_string());
+        let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
+        assert!(!diagnostics.has_errors(), "KB {index} checks: {:?}", common::messages(&diagnostics));
+        let mut task = kbc::passes::task::build(&frontend.kb, 0);
+        let budget = Budget { max_states: 100_000, ..Budget::default() };
+        let options =
+            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, ..Options::default() };
+        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result {
+            Ok(plan) => plan
+                .steps
+                .iter()
+                .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', ""))
+                .collect::<Vec<_>>(),
+            Err(failure) => panic!("KB {index}: no plan: {failure:?}"),
+        };
+        with_plan += 1;
+        let file = dir.join(format!("library{index}.pl"));
+        std::fs::write(&file, text).expect("a scratch file");
+        let goal = format!("consult('{}'), consult('{}'), run(prob, {DEPTH}), halt", file.display(), support.display());
+        let stdout = swipl(&goal, Duration::from_secs(30)).expect("swipl runs the KB");
+        let theirs: Vec<String> = stdout.lines().map(str::to_string).collect();
+        if ours != theirs {
+            failures.push(format!("KB {index}: kbc {ours:?}, Algorithm 1 in Prolog {theirs:?}\n{text}"));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(with_plan, LIBRARY_KBS.len());
+    assert!(failures.is_empty(), "{} differ:\n\n{}", failures.len(), failures.join("\n\n"));
+}
