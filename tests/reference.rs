@@ -26,7 +26,7 @@ use std::time::{Duration, Instant};
 
 use kbc::ir::hir;
 use kbc::planner::{self, Budget, Failure, Options, SearchKind, Silent};
-use kbc::session::{PlanSettings, Session};
+use kbc::session::{Frontend, PlanSettings, Session};
 use kbc::source::SourceDb;
 use kbc::source::fs::FsLoader;
 use kbc::validate::{self, PlanStep};
@@ -1166,6 +1166,28 @@ fn swipl(goal: &str, limit: Duration) -> Option<String> {
 /// `--search paper` against the paper's Algorithm 1 written in Prolog
 /// (tests/support/paper_search.pl): on random KBs, the same first plan, or no plan for both.
 /// Skips, saying so, without `swipl` (`.ci/run` installs it).
+/// The first plan of kbc's paper search for problem 0 of `frontend`, its steps printed without
+/// spaces as Algorithm 1 in Prolog prints them.
+fn first_paper_plan(frontend: &Frontend, depth: u32) -> Result<Vec<String>, Failure> {
+    let mut task = kbc::passes::task::build(&frontend.kb, 0);
+    let budget = Budget { max_states: 100_000, ..Budget::default() };
+    let options = Options { search: SearchKind::Paper, max_depth: Some(depth), budget, plans: 1, ..Options::default() };
+    let plan = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result?;
+    Ok(plan
+        .steps
+        .iter()
+        .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', ""))
+        .collect())
+}
+
+/// The first plan tests/support/paper_search.pl prints in swipl for problem `prob` of `file`
+/// (`no plan` when it finds none), or `None` if swipl fails or takes more than 30 s.
+fn prolog_first_plan(file: &std::path::Path, support: &std::path::Path, depth: u32) -> Option<Vec<String>> {
+    let goal = format!("consult('{}'), consult('{}'), run(prob, {depth}), halt", file.display(), support.display());
+    let stdout = swipl(&goal, Duration::from_secs(30))?;
+    Some(stdout.lines().map(str::to_string).collect())
+}
+
 #[test]
 fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
     if std::process::Command::new("swipl").arg("--version").output().is_err() {
@@ -1188,27 +1210,17 @@ fn the_paper_search_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
         if diagnostics.has_errors() {
             continue;
         }
-        let mut task = kbc::passes::task::build(&frontend.kb, 0);
-        let budget = Budget { max_states: 100_000, ..Budget::default() };
-        let options =
-            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, ..Options::default() };
-        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result {
-            Ok(plan) => plan
-                .steps
-                .iter()
-                .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', ""))
-                .collect::<Vec<_>>(),
+        let ours = match first_paper_plan(&frontend, DEPTH) {
+            Ok(plan) => plan,
             Err(Failure::Exhausted { .. } | Failure::Unsolvable(_)) => vec!["no plan".to_string()],
             Err(_) => continue,
         };
         let file = dir.join(format!("seed{seed}.pl"));
         std::fs::write(&file, &text).expect("a scratch file");
-        let goal = format!("consult('{}'), consult('{}'), run(prob, {DEPTH}), halt", file.display(), support.display());
-        let Some(stdout) = swipl(&goal, Duration::from_secs(30)) else {
+        let Some(theirs) = prolog_first_plan(&file, &support, DEPTH) else {
             failures.push(format!("seed {seed}: swipl failed or took more than 30 s"));
             continue;
         };
-        let theirs: Vec<String> = stdout.lines().map(str::to_string).collect();
         compared += 1;
         with_plan += usize::from(ours != ["no plan"]);
         if ours != theirs {
@@ -1285,24 +1297,12 @@ fn the_paper_search_with_library_predicates_finds_the_same_first_plan_as_algorit
         let root = db.add(format!("library{index}.pl"), None, text.to_string());
         let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
         assert!(!diagnostics.has_errors(), "KB {index} checks: {:?}", common::messages(&diagnostics));
-        let mut task = kbc::passes::task::build(&frontend.kb, 0);
-        let budget = Budget { max_states: 100_000, ..Budget::default() };
-        let options =
-            Options { search: SearchKind::Paper, max_depth: Some(DEPTH), budget, plans: 1, ..Options::default() };
-        let ours = match planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent).result {
-            Ok(plan) => plan
-                .steps
-                .iter()
-                .map(|s| hir::term_to_string(&frontend.interner, &s.name, &hir::VarTable::default()).replace(' ', ""))
-                .collect::<Vec<_>>(),
-            Err(failure) => panic!("KB {index}: no plan: {failure:?}"),
-        };
+        let ours =
+            first_paper_plan(&frontend, DEPTH).unwrap_or_else(|failure| panic!("KB {index}: no plan: {failure:?}"));
         with_plan += 1;
         let file = dir.join(format!("library{index}.pl"));
         std::fs::write(&file, text).expect("a scratch file");
-        let goal = format!("consult('{}'), consult('{}'), run(prob, {DEPTH}), halt", file.display(), support.display());
-        let stdout = swipl(&goal, Duration::from_secs(30)).expect("swipl runs the KB");
-        let theirs: Vec<String> = stdout.lines().map(str::to_string).collect();
+        let theirs = prolog_first_plan(&file, &support, DEPTH).expect("swipl runs the KB");
         if ours != theirs {
             failures.push(format!("KB {index}: kbc {ours:?}, Algorithm 1 in Prolog {theirs:?}\n{text}"));
         }

@@ -590,9 +590,10 @@ const ARG_FROM: Symbol = Symbol(u32::MAX - 3);
 /// `LENGTH_FROM(Tail, K, N)` gives the lengths from K on.
 const LENGTH_FROM: Symbol = Symbol(u32::MAX - 4);
 
-/// How deep calls that collect solutions may nest: each level is a frame of the Rust stack
-/// only while its solutions are copied, but bounding them keeps a runaway recursion through
-/// `findall/3` an error rather than an exhausted memory.
+/// How deep calls that collect solutions may nest. Nothing of theirs is on the Rust stack,
+/// but each level holds a collector and a choicepoint, and a recursion through `findall/3`
+/// (`p :- findall(x, p, _).`) would grow them with every step the budget allows: bounding the
+/// depth makes it an error at once.
 pub const MAX_COLLECTORS: usize = 10_000;
 
 /// The solutions a `findall/3` has collected so far: copies of its template, in cells that

@@ -231,23 +231,15 @@ pub struct Branch {
 }
 
 impl Goal {
-    /// Calls `f` on every literal called anywhere in the goal.
+    /// Calls `f` on every literal called anywhere in the goal but the closures
+    /// [`Goal::for_each_called`] yields with arguments to append: each literal `f` sees is
+    /// called as it stands.
     pub fn for_each_call<'a>(&'a self, f: &mut impl FnMut(&'a Literal)) {
-        match self {
-            Goal::Call(literal) => f(literal),
-            Goal::And(goals) => goals.iter().for_each(|g| g.for_each_call(f)),
-            Goal::Or(branches) => {
-                for branch in branches {
-                    branch.conditions.iter().for_each(|c| c.for_each_call(f));
-                    branch.goal.for_each_call(f);
-                }
+        self.for_each_called(&mut |literal, extra| {
+            if extra == 0 {
+                f(literal)
             }
-            Goal::Not(g) => g.for_each_call(f),
-            Goal::Meta(meta) => {
-                f(&meta.call);
-                meta.called.iter().filter(|(_, extra)| *extra == 0).for_each(|(l, _)| f(l));
-            }
-        }
+        });
     }
 
     /// Calls `f` on every literal called anywhere in the goal, with the number of arguments

@@ -123,19 +123,26 @@ impl Vocabulary {
     }
 }
 
-/// The facts kbc reads as declarations rather than as clauses of the KB's program.
-const DATA_DECLARATIONS: &[(&str, usize)] = &[
-    ("action", 6),
-    ("ll_action", 6),
-    ("mapping", 2),
-    ("resources", 1),
-    ("init_state", 1),
-    ("goal_state", 1),
-    ("hl_init", 1),
-    ("hl_goal", 1),
-    ("ll_init", 1),
-    ("ll_goal", 1),
+/// The facts kbc reads as declarations, and whether it reads them as data only: all of them
+/// but `duration/3`, whose clauses are also the KB's program (the engine proves it).
+const DECLARATIONS: &[(&str, usize, bool)] = &[
+    ("action", 6, true),
+    ("ll_action", 6, true),
+    ("mapping", 2, true),
+    ("resources", 1, true),
+    ("duration", 3, false),
+    ("init_state", 1, true),
+    ("goal_state", 1, true),
+    ("hl_init", 1, true),
+    ("hl_goal", 1, true),
+    ("ll_init", 1, true),
+    ("ll_goal", 1, true),
 ];
+
+/// True if kbc reads `name/arity` facts as data, never as clauses a goal can call.
+fn data_declaration(name: &str, arity: usize) -> bool {
+    DECLARATIONS.iter().any(|&(n, a, data)| data && n == name && a == arity)
+}
 
 /// Where a literal is used, for messages and severities.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -363,17 +370,6 @@ impl Checker<'_> {
     /// for `mapping/2`) with the same arity, and that no OnKB goal or rule calls: a KB fact
     /// nothing reads, most likely meant as the declaration.
     fn misspelt_declarations(&mut self) {
-        const DECLARATIONS: &[(&str, usize)] = &[
-            ("action", 6),
-            ("ll_action", 6),
-            ("mapping", 2),
-            ("resources", 1),
-            ("duration", 3),
-            ("init_state", 1),
-            ("goal_state", 1),
-            ("hl_init", 1),
-            ("hl_goal", 1),
-        ];
         let mut called: BTreeSet<Key> = BTreeSet::new();
         let mut note_calls = |goal: &Goal| {
             goal.for_each_called(&mut |l, extra| {
@@ -485,7 +481,7 @@ impl Checker<'_> {
             let mut reads_declarations = false;
             for body in bodies {
                 body.for_each_called(&mut |l, extra| {
-                    reads_declarations |= DATA_DECLARATIONS.contains(&(self.name(l.name()), l.arity() + extra));
+                    reads_declarations |= data_declaration(self.name(l.name()), l.arity() + extra);
                 });
             }
             if key.0 == sym::GO || reads_declarations {
@@ -815,7 +811,7 @@ impl Checker<'_> {
         let indicator = self.indicator(key);
         let mut diagnostic = Diagnostic::error(codes::UNKNOWN_PREDICATE, format!("unknown predicate `{indicator}`"))
             .primary(literal.name_span, "no clause defines it and it is not a built-in");
-        if DATA_DECLARATIONS.contains(&(self.name(key.0), key.1)) {
+        if data_declaration(self.name(key.0), key.1) {
             diagnostic = diagnostic
                 .with_note(format!(
                     "kbc reads the `{indicator}` facts as declarations, not as clauses that OnKB goals and the rules \
