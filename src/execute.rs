@@ -73,6 +73,27 @@ pub fn unmet_goals<'g>(goal: &'g [Term], world: &[Term]) -> Vec<&'g Term> {
     goal.iter().filter(|g| !world.iter().any(|f| unifiable(g, f))).collect()
 }
 
+/// True if `text`, an atom of the bytecode, is the text of a term that is no atom: a
+/// compound, a list, a number or a string, as codegen writes such an argument. The text is
+/// read as Prolog reads it; anything that does not read as one such term is an atom's name.
+fn term_text(text: &str) -> bool {
+    use crate::syntax::ast::TermKind;
+    if text.is_empty() || crate::syntax::ops::quote_free_atom(text) {
+        return false;
+    }
+    let mut interner = crate::intern::Interner::new();
+    let mut diags = crate::diag::Diagnostics::new();
+    let source = format!("t({text}).");
+    let ast = crate::syntax::parse_source(crate::source::FileId(0), &source, &mut interner, &mut diags);
+    if !diags.is_empty() || ast.clauses.len() != 1 {
+        return false;
+    }
+    match ast.clauses[0].term.args() {
+        [arg] => !matches!(arg.kind, TermKind::Atom(_) | TermKind::Var(_)),
+        _ => false,
+    }
+}
+
 /// The executed timeline as a timed plan in the PDDL 2.1 format (`kbc validate` reads it):
 /// each action at its start's recorded time, with the time to its end's.
 pub fn timed_plan(program: &Program, run: &Run) -> String {
@@ -83,10 +104,19 @@ pub fn timed_plan(program: &Program, run: &Run) -> String {
         let mut text = format!("({}", program.import_name(*import));
         for &a in args {
             text.push(' ');
-            // Atoms as the KB writes them, so the line reads back (`'_A'` stays an atom).
+            // Atoms as the KB writes them, so the line reads back (`'_A'` stays an atom). The
+            // bytecode holds any other argument as an atom of its text (`loc(0, 0)`, `2.5`,
+            // `[a, b]`): that text reads back as the term. (An atom of the KB's whose quoted
+            // name is such a text, `'loc(0, 0)'`, would read back as the term too.)
             match a {
                 kbvm::bytecode::Value::Atom(_) => {
-                    crate::syntax::ops::write_atom_text(&mut text, &program.value_text(a))
+                    let value = program.value_text(a);
+                    if term_text(&value) {
+                        // As the timed-plan printer writes a term: no layout between its tokens.
+                        text.push_str(&crate::syntax::text::without_layout(&value));
+                    } else {
+                        crate::syntax::ops::write_atom_text(&mut text, &value)
+                    }
                 }
                 kbvm::bytecode::Value::Int(_) => text.push_str(&program.value_text(a)),
             }

@@ -978,3 +978,18 @@ fn a_second_search_with_the_lookahead_is_kept_only_when_shorter() {
     let kept = stdout(&kbc(&["plan", kb, "--schedule", "--no-reassign"]));
     assert!(!kept.contains("with lookahead"), "{kept}");
 }
+
+#[test]
+fn a_run_whose_actions_take_terms_of_every_kind_checks_its_timeline() {
+    // The bytecode holds an argument that is no atom or integer as an atom of its text; the
+    // executed timeline reads each back as the term (`1-2`, `2.5`, `[a,b]`, `"s"`,
+    // `f(g(h))`), and an atom that needs quotes as the atom (`'odd name'`, `'_A'`).
+    let run = kbc(&["run", "tests/corpus/term_arguments.pl", "--host", "trace"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(stdout(&run).contains("% the executed timeline is valid for the KB"), "{}", stdout(&run));
+    assert!(
+        stdout(&run).contains("put(r1, i3, [a, b])") || stdout(&run).contains("put(r2, i3, [a, b])"),
+        "{}",
+        stdout(&run)
+    );
+}

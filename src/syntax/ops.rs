@@ -128,6 +128,13 @@ pub fn write_atom_text(out: &mut String, text: &str) {
     }
 }
 
+/// True if `text` is an atom written without quotes: a lower-case letter, then letters,
+/// digits and `_` (`b1`, `grip_start`).
+pub fn quote_free_atom(text: &str) -> bool {
+    text.as_bytes().first().is_some_and(u8::is_ascii_lowercase)
+        && text.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+}
+
 fn atom_needs_quotes(text: &str) -> bool {
     let bytes = text.as_bytes();
     let Some(&first) = bytes.first() else { return true };
