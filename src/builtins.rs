@@ -461,11 +461,6 @@ pub fn is_engine_predicate(interner: &Interner, name: Symbol, arity: usize) -> b
         || lookup(interner, name, arity).is_some_and(|b| matches!(b.imp, Imp::Engine | Imp::Native(_)))
 }
 
-/// True if a KB may not define `name/arity` (E0218).
-pub fn is_protected(interner: &Interner, name: Symbol, arity: usize) -> bool {
-    lookup(interner, name, arity).is_some_and(|b| b.kind == Kind::Protected)
-}
-
 /// SWI-Prolog's debugger, as KBs for the paper's planner switch it on (`:- trace(action, all).`,
 /// `leash(-all), trace`): nothing to do with planning, so kbc ignores it with a note.
 pub const DEBUGGER: &[(&str, usize)] = &[

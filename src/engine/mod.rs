@@ -148,6 +148,13 @@ struct Predicate {
     native: Option<Native>,
 }
 
+impl Predicate {
+    /// A predicate of `arity` arguments, with no clauses yet.
+    fn new(arity: u32) -> Predicate {
+        Predicate { others: (1..arity).map(|_| std::cell::OnceCell::new()).collect(), ..Predicate::default() }
+    }
+}
+
 /// A predicate's clauses by the key of their argument at one position.
 #[derive(Clone, Debug, Default)]
 struct ArgIndex {
@@ -201,8 +208,8 @@ pub struct Program {
     /// character), for the comparisons that need it; empty when nothing in the program can
     /// compare atoms (see [`Program::new`]).
     rank: Box<[u32]>,
-    /// Names the natives read or build.
-    names: Names,
+    /// The symbol of `infinite`, which `between/3` takes for `inf`, if the session has one.
+    infinite: Option<Symbol>,
     /// The types `must_be/2` knows, by the symbols of their names and their arities.
     types: FxHashMap<(Symbol, u32), TypeName>,
 }
@@ -224,18 +231,6 @@ enum TypeName {
     Compound,
     Ground,
     OneOf,
-}
-
-/// Symbols the natives need that are not in the `sym` module: they exist only if the KB's
-/// text (or the library it calls) names them, and a native that needs one only runs if so.
-#[derive(Clone, Copy, Debug, Default)]
-struct Names {
-    caret: Option<Symbol>,
-    before: Option<Symbol>,
-    not_after: Option<Symbol>,
-    after: Option<Symbol>,
-    not_before: Option<Symbol>,
-    infinite: Option<Symbol>,
 }
 
 /// Converts HIR terms into cell templates.
@@ -364,10 +359,7 @@ impl Program {
     /// the natives of `crate::builtins` (a library native only where nothing defines it).
     ///
     /// The standard order of atoms is computed (from `interner`, every name the session has
-    /// seen) only if the program can compare atoms: if some name of a built-in that does
-    /// (`Reads::Names`) was ever interned. A term the engine compares comes from the program
-    /// or a query, whose names are all interned, and no call can reach such a built-in
-    /// without its name written somewhere.
+    /// seen) only if the program can compare atoms ([`Program::compares_atoms`]).
     pub fn new(kb: &Kb, interner: &Interner, extra_facts: &[(&Literal, &hir::VarTable)]) -> Program {
         let mut program = Program::default();
         let compile = |program: &mut Program, clause: &hir::Clause| {
@@ -379,9 +371,8 @@ impl Program {
         for clause in &kb.clauses {
             compile(&mut program, clause);
         }
-        let facts: rustc_hash::FxHashSet<(Symbol, usize)> =
-            extra_facts.iter().filter_map(|(l, _)| l.term.callable()).collect();
-        for clause in kb.library.iter().filter(|c| !facts.contains(&(c.head.name(), c.head.arity()))) {
+        // (`passes::library` has left out the predicates a problem's goal facts define.)
+        for clause in &kb.library {
             compile(&mut program, clause);
         }
         for (literal, vars) in extra_facts {
@@ -392,7 +383,6 @@ impl Program {
         if !program.predicates.contains_key(&(sym::MEMBER, 2)) {
             program.add_member();
         }
-        let mut compares_atoms = false;
         for builtin in builtins::PREDICATES {
             let builtins::Imp::Native(native) = builtin.imp else { continue };
             let Some(name) = interner.get(builtin.name) else { continue };
@@ -401,15 +391,10 @@ impl Program {
             if builtin.kind == builtins::Kind::Library && defined {
                 continue;
             }
-            compares_atoms |= builtin.reads == builtins::Reads::Names;
-            let predicate = program.predicates.entry(key).or_insert_with(|| Predicate {
-                others: (1..key.1).map(|_| std::cell::OnceCell::new()).collect(),
-                ..Predicate::default()
-            });
-            predicate.native = Some(native);
+            program.predicates.entry(key).or_insert_with(|| Predicate::new(key.1)).native = Some(native);
         }
         program.functions = arith::functions(interner);
-        if compares_atoms {
+        if program.compares_atoms(kb, interner) {
             let mut symbols: Vec<u32> = (0..interner.len() as u32).collect();
             symbols.sort_by(|&a, &b| interner.resolve(Symbol(a)).cmp(interner.resolve(Symbol(b))));
             let mut rank = vec![0; symbols.len()];
@@ -418,14 +403,7 @@ impl Program {
             }
             program.rank = rank.into_boxed_slice();
         }
-        program.names = Names {
-            caret: interner.get("^"),
-            before: interner.get("@<"),
-            not_after: interner.get("@=<"),
-            after: interner.get("@>"),
-            not_before: interner.get("@>="),
-            infinite: interner.get("infinite"),
-        };
+        program.infinite = interner.get("infinite");
         const TYPES: &[(&str, u32, TypeName)] = &[
             ("integer", 0, TypeName::Integer),
             ("positive_integer", 0, TypeName::PositiveInteger),
@@ -445,6 +423,42 @@ impl Program {
         ];
         program.types = TYPES.iter().filter_map(|&(n, a, t)| Some(((interner.get(n)?, a), t))).collect();
         program
+    }
+
+    /// True if a term the engine can meet names a built-in that compares atoms
+    /// (`Reads::Names`: `compare/3`, `@<`, `msort/2`, ...): one of the program's clauses (the
+    /// library's and the goal facts included), an OnKB goal, or a problem's fact (an OnKB goal
+    /// may call a name it binds from the state). The engine makes no atoms, so no call reaches
+    /// such a built-in without its name written in one of these.
+    fn compares_atoms(&self, kb: &Kb, interner: &Interner) -> bool {
+        let names: rustc_hash::FxHashSet<Symbol> = builtins::PREDICATES
+            .iter()
+            .filter(|b| b.reads == builtins::Reads::Names)
+            .filter_map(|b| interner.get(b.name))
+            .collect();
+        let in_cells = self.clauses.iter().flat_map(|c| &c.cells).any(|cell| match *cell {
+            Cell::Atom(s) | Cell::Functor(s, _) => names.contains(&s),
+            _ => false,
+        });
+        let names_it = |term: &Term| {
+            let mut pending = vec![term];
+            while let Some(term) = pending.pop() {
+                match term {
+                    Term::Atom(s) if names.contains(s) => return true,
+                    Term::Compound(f, _) if names.contains(f) => return true,
+                    Term::Compound(_, args) => pending.extend(args.iter()),
+                    _ => {}
+                }
+            }
+            false
+        };
+        in_cells
+            || kb.actions.iter().any(|a| {
+                let mut found = false;
+                a.on_kb.iter().for_each(|g| g.for_each_call(&mut |l| found |= names_it(&l.term)));
+                found
+            })
+            || kb.problems.iter().any(|p| p.initial_facts().chain(&p.goal).any(|l| names_it(&l.term)))
     }
 
     /// The rank of `symbol` in the standard order of atoms: symbols named after the program
@@ -481,10 +495,7 @@ impl Program {
         let id = self.clauses.len() as u32;
         let key = first.and_then(|c| index_key(&clause.cells, c));
         self.clauses.push(clause);
-        let predicate = self.predicates.entry((name, arity)).or_insert_with(|| Predicate {
-            others: (1..arity).map(|_| std::cell::OnceCell::new()).collect(),
-            ..Predicate::default()
-        });
+        let predicate = self.predicates.entry((name, arity)).or_insert_with(|| Predicate::new(arity));
         predicate.clauses.push(id);
         predicate.first.add(id, key);
     }
@@ -1221,6 +1232,14 @@ mod tests {
 
     fn atom(frontend: &mut crate::session::Frontend, name: &str) -> Cell {
         Cell::Atom(frontend.interner.intern(name))
+    }
+
+    #[test]
+    fn atoms_are_ranked_only_for_a_program_that_can_compare_them() {
+        // `@<` and the like are interned for every KB, so what counts is a term naming one.
+        assert!(program("c(1).\nd(X) :- c(X).\n").0.rank.is_empty());
+        assert!(!program("s(L, S) :- msort(L, S).\n").0.rank.is_empty());
+        assert!(!program("b(X, Y) :- X @< Y.\n").0.rank.is_empty());
     }
 
     #[test]

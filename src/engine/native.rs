@@ -450,10 +450,9 @@ impl<'p> Machine<'p> {
     /// `'$bagof_split'(Template^Goal, Stripped, Witness)`: the goal without its `V^` marks,
     /// and the list of its variables neither in the template nor marked (bagof/3's witness).
     fn bagof_split(&mut self, args: &[Cell], next: u32) -> Result<Option<u32>, EngineError> {
-        let caret = self.program.names.caret;
         let split = |machine: &Self, cell: Cell| -> Option<(Cell, Cell)> {
             match machine.compound(cell) {
-                Some((f, &[left, right])) if Some(f) == caret => Some((left, right)),
+                Some((sym::CARET, &[left, right])) => Some((left, right)),
                 _ => None,
             }
         };
@@ -585,7 +584,7 @@ impl<'p> Machine<'p> {
         let Some(low) = self.integer_or_var(args[0])? else { return Err(Self::instantiation("between/3")) };
         let high = match self.deref(args[1]) {
             Cell::Int(i) => Some(i),
-            Cell::Atom(s) if s == sym::INF || Some(s) == self.program.names.infinite => None,
+            Cell::Atom(s) if s == sym::INF || Some(s) == self.program.infinite => None,
             Cell::Ref(_) => return Err(Self::instantiation("between/3")),
             _ => return Err(self.type_error("an integer", args[1])),
         };
@@ -680,12 +679,11 @@ impl<'p> Machine<'p> {
         if key < 0 {
             return Err(self.domain_error("a non-negative integer", args[0]));
         }
-        let names = self.program.names;
         let (descending, strict) = match self.deref(args[1]) {
-            Cell::Atom(s) if Some(s) == names.before => (false, true),
-            Cell::Atom(s) if Some(s) == names.not_after => (false, false),
-            Cell::Atom(s) if Some(s) == names.after => (true, true),
-            Cell::Atom(s) if Some(s) == names.not_before => (true, false),
+            Cell::Atom(sym::AT_LT) => (false, true),
+            Cell::Atom(sym::AT_LE) => (false, false),
+            Cell::Atom(sym::AT_GT) => (true, true),
+            Cell::Atom(sym::AT_GE) => (true, false),
             Cell::Ref(_) => return Err(Self::instantiation("sort/4")),
             _ => return Err(self.domain_error("an order: `@<`, `@=<`, `@>` or `@>=`", args[1])),
         };

@@ -518,30 +518,37 @@ impl Kb {
     }
 
     /// The predicates planning can call: those the actions' OnKB goals and the `duration/3`
-    /// clauses call, directly or through rules, a closure with the arity it is called with
-    /// (`maplist(p, L)` calls `p/1`). A goal known only at run time (`call(G)`) reaches
-    /// nothing here; an analysis that must account for it looks for one in these predicates'
-    /// clauses. Rules outside it never run while kbc plans (a KB's own planner, test wrappers).
+    /// clauses call, directly or through rules ([`Kb::predicates_reached`]). A goal known only
+    /// at run time (`call(G)`) reaches nothing here; an analysis that must account for it
+    /// looks for one in these predicates' clauses. Rules outside it never run while kbc plans
+    /// (a KB's own planner, test wrappers).
     pub fn predicates_run(&self) -> std::collections::BTreeSet<(Symbol, usize)> {
-        let mut reached = std::collections::BTreeSet::new();
-        let mut pending: Vec<(Symbol, usize)> = vec![(sym::DURATION, 3)];
+        let mut roots: Vec<(Symbol, usize)> = vec![(sym::DURATION, 3)];
         for action in &self.actions {
             for goal in &action.on_kb {
-                goal.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
+                goal.for_each_called(&mut |l, extra| roots.push((l.name(), l.arity() + extra)));
             }
         }
-        let mut by_head: std::collections::BTreeMap<(Symbol, usize), Vec<&Clause>> = Default::default();
+        self.predicates_reached(roots)
+    }
+
+    /// `roots` and every predicate their clauses call, directly or not, a closure with the
+    /// arity it is called with (`maplist(p, L)` calls `p/1`).
+    pub fn predicates_reached(&self, roots: Vec<(Symbol, usize)>) -> std::collections::BTreeSet<(Symbol, usize)> {
+        let mut by_head: std::collections::BTreeMap<(Symbol, usize), Vec<&Goal>> = Default::default();
         for clause in &self.clauses {
-            by_head.entry((clause.head.name(), clause.head.arity())).or_default().push(clause);
+            if let Some(body) = &clause.body {
+                by_head.entry((clause.head.name(), clause.head.arity())).or_default().push(body);
+            }
         }
+        let mut reached = std::collections::BTreeSet::new();
+        let mut pending = roots;
         while let Some(key) = pending.pop() {
             if !reached.insert(key) {
                 continue;
             }
-            for clause in by_head.get(&key).into_iter().flatten() {
-                if let Some(body) = &clause.body {
-                    body.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
-                }
+            for body in by_head.get(&key).into_iter().flatten() {
+                body.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
             }
         }
         reached

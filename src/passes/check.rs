@@ -470,35 +470,23 @@ impl Checker<'_> {
     /// `mapping/2`, ...) as facts, with every predicate they call, but those planning calls
     /// too ([`Kb::predicates_run`]). kbc plans the problems itself, so it runs none of these.
     fn own_planner(&self) -> BTreeSet<Key> {
-        let mut rules: BTreeMap<Key, Vec<&Goal>> = BTreeMap::new();
+        let mut roots: Vec<Key> = Vec::new();
+        let mut rules: BTreeSet<Key> = BTreeSet::new();
         for clause in &self.kb.clauses {
-            if let Some(body) = &clause.body {
-                rules.entry((clause.head.name(), clause.head.arity())).or_default().push(body);
-            }
-        }
-        let mut pending: Vec<Key> = Vec::new();
-        for (&key, bodies) in &rules {
+            let Some(body) = &clause.body else { continue };
+            let key = (clause.head.name(), clause.head.arity());
+            rules.insert(key);
             let mut reads_declarations = false;
-            for body in bodies {
-                body.for_each_called(&mut |l, extra| {
-                    reads_declarations |= data_declaration(self.name(l.name()), l.arity() + extra);
-                });
-            }
+            body.for_each_called(&mut |l, extra| {
+                reads_declarations |= data_declaration(self.name(l.name()), l.arity() + extra);
+            });
             if key.0 == sym::GO || reads_declarations {
-                pending.push(key);
-            }
-        }
-        let mut planner: BTreeSet<Key> = BTreeSet::new();
-        while let Some(key) = pending.pop() {
-            if !planner.insert(key) {
-                continue;
-            }
-            for body in rules.get(&key).into_iter().flatten() {
-                body.for_each_called(&mut |l, extra| pending.push((l.name(), l.arity() + extra)));
+                roots.push(key);
             }
         }
         let run = self.kb.predicates_run();
-        planner.retain(|key| rules.contains_key(key) && !run.contains(key));
+        let mut planner = self.kb.predicates_reached(roots);
+        planner.retain(|key| rules.contains(key) && !run.contains(key));
         planner
     }
 

@@ -69,33 +69,6 @@ fn lower_as(loaded: &Loaded, db: &SourceDb, interner: &mut Interner, diags: &mut
     lowerer.kb
 }
 
-/// Built-in predicates a KB may not redefine: control constructs and ISO built-ins.
-pub fn is_control_or_iso_builtin(name: Symbol, arity: usize) -> bool {
-    matches!(
-        (name, arity),
-        (sym::COMMA, 2)
-            | (sym::SEMI, 2)
-            | (sym::ARROW, 2)
-            | (sym::NOT_PROVABLE, 1)
-            | (sym::NECK, 1 | 2)
-            | (sym::EQ, 2)
-            | (sym::NOT_UNIFY, 2)
-            | (sym::IDENTICAL, 2)
-            | (sym::NOT_IDENTICAL, 2)
-            | (sym::IS, 2)
-            | (sym::LT, 2)
-            | (sym::GT, 2)
-            | (sym::LE, 2)
-            | (sym::GE, 2)
-            | (sym::ARITH_EQ, 2)
-            | (sym::ARITH_NE, 2)
-            | (sym::TRUE, 0)
-            | (sym::FAIL, 0)
-            | (sym::FALSE, 0)
-            | (sym::CUT, 0)
-    )
-}
-
 /// The variables of the clause being lowered.
 #[derive(Default)]
 struct Scope {
@@ -586,8 +559,12 @@ impl Lowerer<'_> {
             );
             return false;
         };
-        let protected = is_control_or_iso_builtin(name, arity)
-            || (!self.library && crate::builtins::is_protected(self.interner, name, arity));
+        // `:-` itself, and the built-ins SWI-Prolog protects (src/builtins.rs), but in
+        // std/library.pl those it implements (`bagof/3`, `setof/3`).
+        let protected = matches!((name, arity), (sym::NECK, 1 | 2))
+            || crate::builtins::lookup(self.interner, name, arity).is_some_and(|b| {
+                b.kind == crate::builtins::Kind::Protected && !(self.library && b.imp == crate::builtins::Imp::Prolog)
+            });
         if !protected {
             return true;
         }

@@ -235,7 +235,9 @@ impl Symmetry {
         }
         if !facts.is_empty() {
             // Facts with candidates must not be where only a first solution counts.
-            let reached = reachable_from_durations(kb);
+            // `duration/3`'s clauses and what they call (a goal known only at run time reaches
+            // nothing there: `Symmetry::new` has left such a KB without candidates).
+            let reached = kb.predicates_reached(vec![(sym::DURATION, 3)]);
             for (_, literal) in &facts {
                 if commit || reached.contains(&literal.term.callable().unwrap_or((sym::ANON, 0))) {
                     atoms_of(&literal.term, |s, _| _ = excluded.insert(s));
@@ -501,28 +503,4 @@ impl Symmetry {
         }
         keep
     }
-}
-
-/// The predicates (name, arity) `duration/3`'s clauses call, directly or not, the closures
-/// of `maplist/N` and the like with their arity as called (the library's own clauses call
-/// nothing of the KB's but what they are given). A goal known only at run time reaches no
-/// predicate here: [`Symmetry::new`] has left such a KB without candidates.
-fn reachable_from_durations(kb: &Kb) -> FxHashSet<(Symbol, usize)> {
-    let mut reached: FxHashSet<(Symbol, usize)> = FxHashSet::default();
-    let mut todo = vec![(sym::DURATION, 3)];
-    while let Some(pred) = todo.pop() {
-        if !reached.insert(pred) {
-            continue;
-        }
-        for clause in kb.clauses.iter().filter(|c| c.head.term.callable() == Some(pred)) {
-            if let Some(body) = &clause.body {
-                body.for_each_called(&mut |l, extra| {
-                    if let Some((name, arity)) = l.term.callable() {
-                        todo.push((name, arity + extra));
-                    }
-                });
-            }
-        }
-    }
-    reached
 }
