@@ -116,6 +116,8 @@ well_known_symbols! {
     POWER = "**",
     CARET = "^",
     BACKSLASH = "\\",
+    CONSULT = "consult",
+    LOAD_FILES = "load_files",
 }
 
 /// The table of interned names.

@@ -242,8 +242,10 @@ impl Loader<'_> {
     }
 }
 
-/// Recognises `:- include(F)`, `:- ensure_loaded(F)` and SWI's consult list `:- [F, ...]`
-/// (loaded like `ensure_loaded`).
+/// Recognises `:- include(F)`, `:- ensure_loaded(F)`, `:- consult(F)`, `:- load_files(F, _)`
+/// and SWI's consult list `:- [F, ...]` (all but `include` loaded like `ensure_loaded`: SWI
+/// reloads a file consulted twice, replacing its clauses, which leaves them once; each of
+/// them also takes a list of files).
 fn load_directive(term: &Term) -> Option<(LoadKind, Vec<&Term>)> {
     let directive = term.as_compound(sym::NECK, 1)?;
     let goal = &directive.args[0];
@@ -251,8 +253,11 @@ fn load_directive(term: &Term) -> Option<(LoadKind, Vec<&Term>)> {
         TermKind::Compound(c) if c.functor == sym::INCLUDE && c.args.len() == 1 => {
             Some((LoadKind::Include, vec![&c.args[0]]))
         }
-        TermKind::Compound(c) if c.functor == sym::ENSURE_LOADED && c.args.len() == 1 => {
-            Some((LoadKind::EnsureLoaded, vec![&c.args[0]]))
+        TermKind::Compound(c)
+            if (matches!(c.functor, sym::ENSURE_LOADED | sym::CONSULT) && c.args.len() == 1)
+                || (c.functor == sym::LOAD_FILES && matches!(c.args.len(), 1 | 2)) =>
+        {
+            Some((LoadKind::EnsureLoaded, files(&c.args[0])))
         }
         // `use_module(File)` and `use_module(File, Imports)` of a file of the KB's own (not
         // `library(...)`): loaded once, as SWI-Prolog loads it, its clauses read as plain
@@ -268,6 +273,14 @@ fn load_directive(term: &Term) -> Option<(LoadKind, Vec<&Term>)> {
             Some((LoadKind::EnsureLoaded, list.items.iter().collect()))
         }
         _ => None,
+    }
+}
+
+/// The files a load directive's argument names: each item of a list, or the one file.
+fn files(t: &Term) -> Vec<&Term> {
+    match &t.kind {
+        TermKind::List(list) if list.tail.is_none() => list.items.iter().collect(),
+        _ => vec![t],
     }
 }
 
@@ -356,6 +369,19 @@ mod tests {
             run(&[("m.pl", ":- ensure_loaded(lib).\n:- ensure_loaded('lib.pl').\nx.\n"), ("lib.pl", "l.\n")], "m.pl");
         assert!(diags.is_empty(), "{diags:?}");
         assert_eq!(heads(&loaded, &interner), vec!["l", "x"]);
+    }
+
+    #[test]
+    fn consult_and_load_files_load_as_ensure_loaded_does_lists_included() {
+        let files = [
+            ("m.pl", ":- consult(a).\n:- load_files([b, 'a.pl'], [if(not_loaded)]).\n:- ensure_loaded([c]).\nx.\n"),
+            ("a.pl", "a.\n"),
+            ("b.pl", ":- consult('c.pl').\nb.\n"),
+            ("c.pl", "c.\n"),
+        ];
+        let (loaded, diags, _, interner) = run(&files, "m.pl");
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(heads(&loaded, &interner), vec!["a", "c", "b", "x"]);
     }
 
     #[test]
