@@ -1280,27 +1280,65 @@ prob :- go([money(4)], [finished]).
 ",
 ];
 
+/// KBs whose test computes `go`'s states in goals before the call (and calls more after it,
+/// which neither planner runs).
+const PRELUDE_KBS: &[&str] = &[
+    // The states named by facts.
+    "start_state([at(r, a), parcel(p, a)]).
+end_state([parcel(p, c)]).
+road(a, b). road(b, c). road(b, a).
+action(drive(R, X, Y), [at(R, X)], [], [], [road(X, Y)], [del(at(R, X)), add(at(R, Y))]).
+action(carry(R, P, X, Y), [at(R, X), parcel(P, X)], [], [], [road(X, Y)], [del(at(R, X)), del(parcel(P, X)), add(at(R, Y)), add(parcel(P, Y))]).
+prob :- start_state(I), end_state(G), go(I, G).
+",
+    // An initial state built with findall/3 and append/3; the goal written out; output after.
+    "block(b2). block(b1).
+action(stack(X, Y), [clear(X), clear(Y)], [on(X, _)], [], [block(X), block(Y), X \\== Y], [del(clear(Y)), add(on(X, Y))]).
+action(finish, [on(b1, b2)], [], [], [], [add(done)]).
+prob :- findall(clear(B), block(B), Clear), append(Clear, [ready], Init), go(Init, [done]), write(planned), nl.
+",
+    // A durative pair whose states come from a rule with an if-then-else, and a goal with a
+    // variable bound through `=/2`.
+    "size(3).
+start(I) :- size(N), ( N > 2 -> I = [at(r, 1), big] ; I = [at(r, 1)] ).
+action(step_start(R, N), [at(R, N)], [], [], [succ(N, M), M =< 3], [del(at(R, N)), add(stepping(R, N))]).
+action(step_end(R, N), [stepping(R, N)], [], [], [succ(N, M)], [del(stepping(R, N)), add(at(R, M))]).
+prob :- start(I), Last = 3, G = [at(r, Last), big], go(I, G).
+",
+];
+
 #[test]
 fn the_paper_search_with_library_predicates_finds_the_same_first_plan_as_algorithm_1_in_prolog() {
+    same_first_plans_as_algorithm_1(LIBRARY_KBS, "library");
+}
+
+#[test]
+fn tests_that_compute_their_states_find_the_same_first_plan_as_algorithm_1_in_prolog() {
+    same_first_plans_as_algorithm_1(PRELUDE_KBS, "prelude");
+}
+
+/// Each of `kbs` checks, has a plan under `--search paper`, and it is the first plan
+/// tests/support/paper_search.pl finds in swipl.
+fn same_first_plans_as_algorithm_1(kbs: &[&str], label: &str) {
     if std::process::Command::new("swipl").arg("--version").output().is_err() {
         eprintln!("skipped: swipl is not installed");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("kbc-paper-library-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("kbc-paper-{label}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a scratch folder");
     let support = std::fs::canonicalize("tests/support/paper_search.pl").expect("the Prolog planner");
     const DEPTH: u32 = 8;
     let mut failures = Vec::new();
     let mut with_plan = 0;
-    for (index, text) in LIBRARY_KBS.iter().enumerate() {
+    for (index, text) in kbs.iter().enumerate() {
         let mut db = SourceDb::new();
-        let root = db.add(format!("library{index}.pl"), None, text.to_string());
+        let root = db.add(format!("{label}{index}.pl"), None, text.to_string());
         let (_, frontend, diagnostics) = kbc::session::Session::open(db, &[root], &mut FsLoader).into_parts();
         assert!(!diagnostics.has_errors(), "KB {index} checks: {:?}", common::messages(&diagnostics));
         let ours =
             first_paper_plan(&frontend, DEPTH).unwrap_or_else(|failure| panic!("KB {index}: no plan: {failure:?}"));
         with_plan += 1;
-        let file = dir.join(format!("library{index}.pl"));
+        let file = dir.join(format!("{label}{index}.pl"));
         std::fs::write(&file, text).expect("a scratch file");
         let theirs = prolog_first_plan(&file, &support, DEPTH).expect("swipl runs the KB");
         if ours != theirs {
@@ -1308,6 +1346,6 @@ fn the_paper_search_with_library_predicates_finds_the_same_first_plan_as_algorit
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(with_plan, LIBRARY_KBS.len());
+    assert_eq!(with_plan, kbs.len());
     assert!(failures.is_empty(), "{} differ:\n\n{}", failures.len(), failures.join("\n\n"));
 }

@@ -170,6 +170,7 @@ codes! {
     INCLUDED_AGAIN = "W0014": "a file included again";
     OPEN_INIT = "W0015": "an initial fact with a variable";
     OUTPUT_NOT_PRINTED = "W0016": "output that kbc does not print";
+    GOALS_AFTER_GO = "W0017": "goals of a test after its `go` call, which kbc does not run";
 }
 
 /// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older

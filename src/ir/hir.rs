@@ -421,6 +421,38 @@ pub struct Problem {
     /// ([`crate::passes::open_init`]), and the high-level task of the problem as written
     /// leaves them out.
     pub open_init: Vec<Literal>,
+    /// For a test whose `go` call follows other goals (`test :- start(I), end(G), go(I, G).`):
+    /// those goals and `go`'s arguments as written. The `prelude` pass runs them and sets
+    /// `init`, `goal` and `vars` from their first solution.
+    pub prelude: Option<Box<Prelude>>,
+}
+
+/// Whether `name/arity` is one of the problem states kbc reads as declarations and keeps as
+/// plain facts as well (`init_state/1`, `goal_state/1`, `hl_init/1`, `hl_goal/1`, `ll_init/1`,
+/// `ll_goal/1`).
+pub fn is_state_declaration(name: Symbol, arity: usize) -> bool {
+    arity == 1
+        && matches!(name, sym::INIT_STATE | sym::GOAL_STATE | sym::HL_INIT | sym::HL_GOAL | sym::LL_INIT | sym::LL_GOAL)
+}
+
+/// The goals of a test before its `go` call, which give `go` its states ([`Problem::prelude`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prelude {
+    /// The goals, in order; their variables are the problem's (`Problem::vars` as lowered).
+    pub goals: Vec<Goal>,
+    /// `go`'s initial state and goal as written (`I`, `G`, or lists).
+    pub init: Term,
+    /// See `init`.
+    pub goal: Term,
+    /// Where `init` and `goal` are written: the argument, and each item's span where the
+    /// argument is a list as written.
+    pub init_spans: (Span, Vec<Span>),
+    /// See `init_spans`.
+    pub goal_spans: (Span, Vec<Span>),
+    /// The variable table the goals' terms use (the problem's as lowered).
+    pub vars: VarTable,
+    /// The goals before `go`, as written.
+    pub span: Span,
 }
 
 impl Problem {

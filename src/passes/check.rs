@@ -124,19 +124,20 @@ impl Vocabulary {
 }
 
 /// The facts kbc reads as declarations, and whether it reads them as data only: all of them
-/// but `duration/3`, whose clauses are also the KB's program (the engine proves it).
+/// but `duration/3`, whose clauses are also the KB's program (the engine proves it), and the
+/// states, which are also facts a rule may read (`test :- init_state(I), ..., go(I, G).`).
 const DECLARATIONS: &[(&str, usize, bool)] = &[
     ("action", 6, true),
     ("ll_action", 6, true),
     ("mapping", 2, true),
     ("resources", 1, true),
     ("duration", 3, false),
-    ("init_state", 1, true),
-    ("goal_state", 1, true),
-    ("hl_init", 1, true),
-    ("hl_goal", 1, true),
-    ("ll_init", 1, true),
-    ("ll_goal", 1, true),
+    ("init_state", 1, false),
+    ("goal_state", 1, false),
+    ("hl_init", 1, false),
+    ("hl_goal", 1, false),
+    ("ll_init", 1, false),
+    ("ll_goal", 1, false),
 ];
 
 /// True if kbc reads `name/arity` facts as data, never as clauses a goal can call.
@@ -384,6 +385,9 @@ impl Checker<'_> {
                 note_calls(body);
             }
         }
+        for problem in &self.kb.problems {
+            problem.prelude.iter().flat_map(|p| &p.goals).for_each(&mut note_calls);
+        }
         let mut reported: BTreeSet<Key> = BTreeSet::new();
         for clause in &self.kb.clauses {
             let key = (clause.head.name(), clause.head.arity());
@@ -391,6 +395,9 @@ impl Checker<'_> {
                 continue;
             }
             let name = self.name(key.0).to_string();
+            if DECLARATIONS.contains(&(name.as_str(), key.1, false)) {
+                continue; // a state declaration, which is also a fact
+            }
             let candidates: Vec<&str> = DECLARATIONS.iter().filter(|d| d.1 == key.1).map(|d| d.0).collect();
             let Some(found) = best_match(&name, candidates) else { continue };
             reported.insert(key);
@@ -552,6 +559,9 @@ impl Checker<'_> {
             }
         }
         for problem in &kb.problems {
+            for goal in problem.prelude.iter().flat_map(|p| &p.goals) {
+                self.kb_goal(goal);
+            }
             for l in &problem.goal {
                 self.state_literal(l, StateUse::Goal);
             }

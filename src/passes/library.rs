@@ -66,6 +66,10 @@ fn kb_names(kb: &Kb, out: &mut Vec<Symbol>) {
     }
     for problem in &kb.problems {
         problem.initial_facts().chain(&problem.goal).for_each(|l| term_names(&l.term, out));
+        if let Some(prelude) = &problem.prelude {
+            prelude.goals.iter().for_each(|g| goal_names(g, out));
+            [&prelude.init, &prelude.goal].into_iter().for_each(|t| term_names(t, out));
+        }
     }
 }
 

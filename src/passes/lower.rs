@@ -19,7 +19,8 @@ use crate::diag::{Diagnostic, Diagnostics, Edit, codes, plural};
 use crate::intern::{Interner, Symbol, sym};
 use crate::ir::hir::{
     self, Action, Args, Branch, Clause, Declaration, DeclarationKind, Effect, EffectKind, Goal, HeadSite, Kb, Level,
-    Literal, Mapping, MetaCall, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, Term, VarId, VarInfo, VarTable,
+    Literal, Mapping, MetaCall, Prelude, Problem, ProblemForm, Resource, SLOT_NAMES, Snap, Term, VarId, VarInfo,
+    VarTable,
 };
 use crate::source::{FileId, SourceDb, Span};
 use crate::syntax::ast::{self, Notation, TermKind};
@@ -440,17 +441,20 @@ impl Lowerer<'_> {
     }
 
     fn rule(&mut self, head: &ast::Term, body: &ast::Term, span: Span) {
-        if let Some(go) = problem_call(body) {
+        if let Some(test) = problem_in_body(body) {
             self.head_site(head);
-            self.go_problem(head, go, span);
+            self.go_problem(head, &test, span);
             return;
         }
         if contains_go_call(body) {
             self.diags.push(
-                Diagnostic::error(codes::BAD_PROBLEM, "a test's body must be a single `go(Init, Goal)`")
-                    .primary(body.span, "other goals beside `go/N`")
-                    .with_note("kbc reads `go/2`, `go/4` and `go/5` tests as problems; it does not run them")
-                    .with_help("write `name :- go([...], [...]).`"),
+                Diagnostic::error(codes::BAD_PROBLEM, "a test's `go` call must be one of its body's goals, once")
+                    .primary(body.span, "`go/N` inside a disjunction, a negation or an if-then, or called twice")
+                    .with_note(
+                        "kbc reads a test as goals that give `go/2`, `go/4` or `go/5` its states, the `go` call, \
+                         then goals it does not run",
+                    )
+                    .with_help("write `name :- go([...], [...]).`, or one test per `go` call"),
             );
             return;
         }
@@ -522,11 +526,21 @@ impl Lowerer<'_> {
                     .with_help(format!("write `{expected}`")),
                 );
             }
-            (sym::INIT_STATE, 1) | (sym::GOAL_STATE, 1) => self.state_fact(name, term, span),
+            (sym::INIT_STATE, 1) | (sym::GOAL_STATE, 1) => {
+                self.state_fact(name, term, span);
+                self.plain_fact(term, span, false);
+            }
             // The authors' two-level KBs spell the high-level problem `hl_init`/`hl_goal`.
-            (sym::HL_INIT, 1) => self.state_fact(sym::INIT_STATE, term, span),
-            (sym::HL_GOAL, 1) => self.state_fact(sym::GOAL_STATE, term, span),
+            (sym::HL_INIT, 1) => {
+                self.state_fact(sym::INIT_STATE, term, span);
+                self.plain_fact(term, span, false);
+            }
+            (sym::HL_GOAL, 1) => {
+                self.state_fact(sym::GOAL_STATE, term, span);
+                self.plain_fact(term, span, false);
+            }
             (sym::LL_INIT | sym::LL_GOAL, 1) => {
+                self.plain_fact(term, span, false);
                 if let TermKind::List(list) = &term.args()[0].kind {
                     for item in &list.items {
                         if let Some(key) = item.callable()
@@ -538,14 +552,22 @@ impl Lowerer<'_> {
                 }
                 self.arm_state_fact(name, term, span);
             }
-            _ => {
-                let mut scope = Scope::default();
-                let head = self.literal(term, &mut scope, "a fact");
-                self.singletons(&scope, &[]);
-                if let Some(head) = head {
-                    self.kb.clauses.push(Clause { head, body: None, vars: scope.table, span });
-                }
-            }
+            _ => self.plain_fact(term, span, true),
+        }
+    }
+
+    /// A fact of the static KB, which OnKB goals and rules may read: every fact that is not a
+    /// declaration, and the states (`init_state([...])`, which Prolog lets a rule read too;
+    /// their singletons are reported where they are read as a problem, so not with
+    /// `singletons`).
+    fn plain_fact(&mut self, term: &ast::Term, span: Span, singletons: bool) {
+        let mut scope = Scope::default();
+        let head = self.literal(term, &mut scope, "a fact");
+        if singletons {
+            self.singletons(&scope, &[]);
+        }
+        if let Some(head) = head {
+            self.kb.clauses.push(Clause { head, body: None, vars: scope.table, span });
         }
     }
 
@@ -798,39 +820,83 @@ impl Lowerer<'_> {
 
     // ---- problems -------------------------------------------------------------------------
 
-    fn go_problem(&mut self, head: &ast::Term, go: &ast::Term, span: Span) {
+    fn go_problem(&mut self, head: &ast::Term, test: &TestBody<'_>, span: Span) {
         let Some((name, _)) = head.callable() else {
             self.check_definable_head(head);
             return;
         };
+        let go = test.go;
         let args = go.args();
         let mut scope = Scope::default();
         // Head arguments (`test1(Actions, Times)`) share variables with go/4's outputs.
         for arg in head.args() {
             self.term(arg, &mut scope);
         }
+        // Goals before `go` that give it its states: lowered as a rule body, run by the
+        // `prelude` pass once the whole KB is known.
+        let mut prelude = None;
+        if let (Some(first), Some(last)) = (test.before.first(), test.before.last()) {
+            let goals: Option<Vec<Goal>> = test.before.iter().map(|g| self.goal(g, &mut scope)).collect();
+            let spans = |t: &ast::Term| -> (Span, Vec<Span>) {
+                match &t.kind {
+                    TermKind::List(l) if l.tail.is_none() => (t.span, l.items.iter().map(|i| i.span).collect()),
+                    _ => (t.span, Vec::new()),
+                }
+            };
+            let (init, goal) = (self.term(&args[0], &mut scope), self.term(&args[1], &mut scope));
+            prelude = goals.map(|goals| Prelude {
+                goals,
+                init,
+                goal,
+                init_spans: spans(&args[0]),
+                goal_spans: spans(&args[1]),
+                vars: VarTable::default(),
+                span: first.span.to(last.span),
+            });
+        }
+        if let (Some(first), Some(last)) = (test.after.first(), test.after.last()) {
+            self.diags.push(
+                Diagnostic::warning(codes::GOALS_AFTER_GO, "kbc does not run the goals after `go`")
+                    .primary(first.span.to(last.span), "not run")
+                    .secondary(go.span, "kbc plans this call")
+                    .with_note(
+                        "Prolog would run them once `go` has found a plan, and ask `go` for another plan \
+                         if they failed; kbc gives the first plan and runs nothing after it",
+                    )
+                    .with_help("to print or check the plan, run kbc's output (`kbc plan`, `kbc validate`)"),
+            );
+        }
+        if let Some(mut prelude) = prelude {
+            for arg in args.iter().skip(2) {
+                self.term(arg, &mut scope);
+            }
+            self.singletons(&scope, &[]);
+            prelude.vars = scope.table.clone();
+            let max_depth = self.max_depth(args);
+            self.add_problem(Problem {
+                name,
+                name_span: head.name_span(),
+                init: Vec::new(),
+                goal: Vec::new(),
+                max_depth,
+                form: ProblemForm::Go(args.len() as u8),
+                vars: scope.table,
+                span,
+                level: Level::High,
+                open_init: Vec::new(),
+                prelude: Some(Box::new(prelude)),
+            });
+            return;
+        }
+        if !test.before.is_empty() {
+            return; // a goal before `go` that does not lower (reported)
+        }
         let init = self.state_list(&args[0], &mut scope, "the initial state");
         let goal = self.state_list(&args[1], &mut scope, "the goal state");
         for arg in args.iter().skip(2).take(2) {
             self.term(arg, &mut scope);
         }
-        let mut max_depth = None;
-        if args.len() == 5 {
-            match args[4].kind {
-                TermKind::Int(depth) if depth > 0 && depth <= u32::MAX as i64 => max_depth = Some(depth as u32),
-                _ => {
-                    let found = self.show(&args[4]);
-                    self.diags.push(
-                        Diagnostic::error(
-                            codes::BAD_PROBLEM,
-                            format!("expected a positive integer depth limit, found `{found}`"),
-                        )
-                        .primary(args[4].span, "the fifth argument of `go/5` is the maximum plan depth")
-                        .with_help("write a number such as `25`"),
-                    );
-                }
-            }
-        }
+        let max_depth = self.max_depth(args);
         let quiet: Vec<Span> = init.iter().flatten().filter(|l| !l.term.is_ground()).map(|l| l.span).collect();
         self.singletons(&scope, &quiet);
         let (Some(init), Some(goal)) = (init, goal) else { return };
@@ -846,7 +912,29 @@ impl Lowerer<'_> {
             span,
             level: Level::High,
             open_init,
+            prelude: None,
         });
+    }
+
+    /// The depth limit of `go/5` (its fifth argument), or none; E0215 when it is not a
+    /// positive integer.
+    fn max_depth(&mut self, args: &[ast::Term]) -> Option<u32> {
+        let limit = args.get(4)?;
+        match limit.kind {
+            TermKind::Int(depth) if depth > 0 && depth <= u32::MAX as i64 => Some(depth as u32),
+            _ => {
+                let found = self.show(limit);
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::BAD_PROBLEM,
+                        format!("expected a positive integer depth limit, found `{found}`"),
+                    )
+                    .primary(limit.span, "the fifth argument of `go/5` is the maximum plan depth")
+                    .with_help("write a number such as `25`"),
+                );
+                None
+            }
+        }
     }
 
     fn state_list(&mut self, t: &ast::Term, scope: &mut Scope, what: &str) -> Option<Vec<Literal>> {
@@ -1047,6 +1135,7 @@ impl Lowerer<'_> {
                         span: init_span.to(goal_span),
                         level: Level::High,
                         open_init,
+                        prelude: None,
                     });
                 }
                 (Some((_, span)), None) => self.incomplete_problem(span, "goal_state"),
@@ -1174,11 +1263,27 @@ fn is_effect_term(t: &ast::Term) -> bool {
 }
 
 /// The `go/2`, `go/4` or `go/5` call if `body` is exactly one.
-fn problem_call(body: &ast::Term) -> Option<&ast::Term> {
-    match body.callable() {
-        Some((sym::GO, 2 | 4 | 5)) => Some(body),
-        _ => None,
+/// A test's body read as a problem: the goals before its `go/N` call, the call, and the goals
+/// after it.
+pub struct TestBody<'a> {
+    /// The goals that give `go` its states.
+    pub before: Vec<&'a ast::Term>,
+    /// The `go/2`, `go/4` or `go/5` call.
+    pub go: &'a ast::Term,
+    /// Goals kbc does not run (warning W0017).
+    pub after: Vec<&'a ast::Term>,
+}
+
+/// `body` as a test: a conjunction with one `go/N` call among its goals, and no other goal
+/// that calls `go` (inside a disjunction, say).
+pub fn problem_in_body(body: &ast::Term) -> Option<TestBody<'_>> {
+    let goals = body.xfy_operands(sym::COMMA);
+    let mut calls = goals.iter().enumerate().filter(|(_, g)| contains_go_call(g));
+    let (at, go) = calls.next()?;
+    if calls.next().is_some() || !matches!(go.callable(), Some((sym::GO, 2 | 4 | 5))) {
+        return None;
     }
+    Some(TestBody { before: goals[..at].to_vec(), go, after: goals[at + 1..].to_vec() })
 }
 
 fn contains_go_call(t: &ast::Term) -> bool {

@@ -5,6 +5,7 @@
 //! - [`load`]: files and their includes to parsed clauses in program order;
 //! - [`lower`]: clauses to the resolved KB (HIR);
 //! - [`library`]: the clauses of std/library.pl the KB calls;
+//! - [`prelude`]: the states of tests whose `go` call follows other goals, from running them;
 //! - [`check`]: whole-KB checks on the HIR;
 //! - [`open_init`]: the values tried for the variables of a problem's initial facts.
 //!
@@ -17,6 +18,7 @@ pub mod load;
 pub mod lower;
 pub mod open_init;
 pub mod pop;
+pub mod prelude;
 pub mod reassign;
 pub mod refine;
 pub mod schedule;

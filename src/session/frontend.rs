@@ -6,7 +6,7 @@ use crate::diag::{Diagnostic, Diagnostics};
 use crate::intern::{Interner, sym};
 use crate::ir::hir::{self, Kb};
 use crate::passes::load::{self, Loaded, NoIncludes, SourceLoader};
-use crate::passes::{check, library, lower};
+use crate::passes::{check, library, lower, prelude};
 use crate::source::{FileId, SourceDb};
 use crate::stdlib;
 use crate::syntax::ast::TermKind;
@@ -56,7 +56,7 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
         declares_mappings |= matches!(head.callable(), Some((sym::MAPPING, _)));
         declares_problems |=
             matches!(head.callable(), Some((sym::INIT_STATE | sym::GOAL_STATE | sym::HL_INIT | sym::HL_GOAL, 1)))
-                || body.is_some_and(|b| matches!(b.callable(), Some((sym::GO, _))));
+                || body.is_some_and(|b| lower::problem_in_body(b).is_some());
     }
     let mut uses_std_domain = false;
     let loaded = if declares_mappings && !declares_ll_actions {
@@ -91,6 +91,14 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
             "library",
             || library::library(&kb, roots, db, &mut interner),
             |clauses| plural(clauses.len(), "clause"),
+        );
+    }
+    let tests = kb.problems.iter().filter(|p| p.prelude.is_some()).count();
+    if tests > 0 {
+        super::timing::time(
+            "prelude",
+            || prelude::resolve(&mut kb, &mut interner, &mut diags),
+            |()| plural(tests, "test"),
         );
     }
     verify_hir(&kb, db, &interner);

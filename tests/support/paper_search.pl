@@ -11,12 +11,20 @@
 
 go(_, _).  % the KB's problems are `prob :- go(Init, Goal).`; `run/2` reads them instead.
 
+% A problem is `prob :- Goals, go(Init, Goal), After.`: the goals before `go` run first (their
+% first solution, as kbc takes it), those after it are not run.
 run(Problem, Max) :-
-    clause(Problem, go(Init, Goal)),
+    clause(Problem, Body),
+    test_call(Body, Before, Init, Goal),
+    once(Before),
     (   first_plan(Init, Goal, Max, Plan)
     ->  forall(member(Step, Plan), (print(Step), nl))
     ;   writeln('no plan')
     ).
+
+test_call(go(Init, Goal), true, Init, Goal) :- !.
+test_call((go(Init, Goal), _), true, Init, Goal) :- !.
+test_call((First, Rest), (First, Before), Init, Goal) :- test_call(Rest, Before, Init, Goal).
 
 first_plan(Init, Goal, _, []) :-
     satisfied(Goal, Init, []), !.
