@@ -171,6 +171,7 @@ codes! {
     OPEN_INIT = "W0015": "an initial fact with a variable";
     OUTPUT_NOT_PRINTED = "W0016": "output that kbc does not print";
     GOALS_AFTER_GO = "W0017": "goals of a test after its `go` call, which kbc does not run";
+    EMPTY_DURATION = "W0018": "a `duration/3` whose least duration is above its greatest";
 }
 
 /// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older

@@ -398,6 +398,30 @@ impl Checker<'_> {
             if DECLARATIONS.contains(&(name.as_str(), key.1, false)) {
                 continue; // a state declaration, which is also a fact
             }
+            if let Some(&(_, arity, _)) = DECLARATIONS.iter().find(|d| d.0 == name && d.1 != key.1) {
+                // The declaration's name with another number of arguments (`duration(wait, 2)`).
+                reported.insert(key);
+                let example = match clause.head.term.args().first() {
+                    Some(action) if name == "duration" => {
+                        format!("duration({}, Min, Max)", hir::term_to_string(self.interner, action, &clause.vars))
+                    }
+                    _ => format!("{name}([...])"),
+                };
+                self.diags.push(
+                    Diagnostic::warning(
+                        codes::MISSPELT_DECLARATION,
+                        format!(
+                            "`{name}/{}` is not a kbc declaration: `{name}` takes {}",
+                            key.1,
+                            plural(arity, "argument")
+                        ),
+                    )
+                    .primary(clause.head.span, "read as a plain KB fact, which nothing uses")
+                    .with_note(format!("kbc reads `{name}/{arity}` facts; these are facts of another predicate"))
+                    .with_help(format!("write it as `{example}`")),
+                );
+                continue;
+            }
             let candidates: Vec<&str> = DECLARATIONS.iter().filter(|d| d.1 == key.1).map(|d| d.0).collect();
             let Some(found) = best_match(&name, candidates) else { continue };
             reported.insert(key);
@@ -1038,6 +1062,24 @@ impl Checker<'_> {
     }
 
     fn duration_bounds(&mut self, clause: &hir::Clause, bounds: &[Term]) {
+        let number = |t: &Term| match t {
+            Term::Int(i) => Some(*i as f64),
+            Term::Float(f) => Some(*f),
+            _ => None,
+        };
+        if let (Some(min), Some(max)) = (number(&bounds[0]), number(&bounds[1]))
+            && min > max
+            && max >= 0.0
+        {
+            let shown = |t: &Term| hir::term_to_string(self.interner, t, &clause.vars);
+            let (low, high) = (shown(&bounds[0]), shown(&bounds[1]));
+            self.diags.push(
+                Diagnostic::warning(codes::EMPTY_DURATION, format!("the least duration, `{low}`, is above the greatest, `{high}`"))
+                    .primary(clause.head.span, "no duration lies between these bounds")
+                    .with_note("Prolog's planner, which does not schedule, plans the action; no schedule of a plan that uses it exists (E0401)")
+                    .with_help(format!("write the least duration first: `{high}, {low}`")),
+            );
+        }
         for (bound, which) in bounds.iter().zip(["minimum", "maximum"]) {
             let ok = match bound {
                 Term::Int(i) => *i >= 0,

@@ -1,0 +1,5 @@
+action(wait_start, [idle], [], [], [], [del(idle), add(waiting)]).
+action(wait_end, [waiting], [], [], [], [del(waiting), add(idle), add(waited)]).
+duration(wait, 2).
+init_state([idle], [waited]).
+t1 :- go([idle], [waited]).
