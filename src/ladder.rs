@@ -115,7 +115,24 @@ pub fn standard() -> Vec<Rung> {
 }
 
 /// A tower: a cell and its blocks, bottom first.
-type Tower = ((usize, usize), Vec<usize>);
+/// Where each block stands: its cell, and the block it is on (`None`: the table).
+type Places = std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)>;
+
+/// A tower: its cell and its blocks (numbers: `b3` is 3), bottom first.
+pub type Tower = ((usize, usize), Vec<usize>);
+
+/// A rung's table and towers, as its goal file states them ([`Rung::layout`]); a test may
+/// write one of its own and ask for its goal file and bound ([`Rung::source_of`],
+/// [`Rung::lower_bound_of`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// The cells of the table.
+    pub cells: Vec<(usize, usize)>,
+    /// The towers at the start.
+    pub init: Vec<Tower>,
+    /// The towers of the goal.
+    pub goal: Vec<Tower>,
+}
 
 /// The cycles of a grid rung's moves ([`LowerBound`]): blocks each of whose goal cells
 /// the next one's start cell is, round to the first, in the order of their first block
@@ -240,6 +257,12 @@ impl Rung {
         out
     }
 
+    /// The rung's table and towers.
+    pub fn layout(&self) -> Layout {
+        let (init, goal) = self.towers();
+        Layout { cells: self.cells(), init, goal }
+    }
+
     /// The goal file: the table's `cell/2` facts and one test `name :- go(Init, Goal).`, for
     /// the standard blocks world (a whole KB of its own for a grid rung). Arms are `a1`..;
     /// blocks `b1`...
@@ -247,7 +270,13 @@ impl Rung {
         if self.family == Family::Grid {
             return self.grid_source();
         }
-        let (init, goal) = self.towers();
+        self.source_of(&self.layout())
+    }
+
+    /// The goal file of `layout` on the standard blocks world, with this rung's name and
+    /// arms (not for a grid rung, whose KB is its own).
+    pub fn source_of(&self, layout: &Layout) -> String {
+        let Layout { cells, init, goal } = layout;
         let mut out = format!(
             "% The kbc scaling ladder: family {}, {} blocks, {} arms, seed {} (written by `kbc bench`).\n",
             self.family.name(),
@@ -255,8 +284,10 @@ impl Rung {
             self.arms,
             self.seed
         );
-        out.push_str("% The table: a grid five cells wide, two more cells than blocks.\n");
-        for (x, y) in self.cells() {
+        if *cells == self.cells() {
+            out.push_str("% The table: a grid five cells wide, two more cells than blocks.\n");
+        }
+        for (x, y) in cells {
             out.push_str(&format!("cell({x}, {y}).\n"));
         }
         let arms: Vec<String> = (1..=self.arms).map(|a| format!("available(a{a})")).collect();
@@ -276,7 +307,7 @@ impl Rung {
             }
             format!("[\n    {}\n  ]", facts.join(",\n    "))
         };
-        out.push_str(&format!("{} :- go(\n  {},\n  {}\n).\n", self.name(), state(&init), state(&goal)));
+        out.push_str(&format!("{} :- go(\n  {},\n  {}\n).\n", self.name(), state(init), state(goal)));
         out
     }
 }
@@ -324,7 +355,9 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   after its last release, so it is either held through all of that or moves twice,
 ///   through a buffer cell of its own when the one below is gripped (`waiting`, see
 ///   `Rung::waiting`). `aside` counts what `waiting` proves of the blocks it does not count
-///   itself; the sum takes the larger of the two. The arms share the sum, and more
+///   itself. A cell whose goal tower has another bottom block empties at some moment, when
+///   the blocks that stood on it are each on a buffer cell of its own or in the air
+///   (`emptying`, see `Rung::emptying`). The sum takes the largest of the three. The arms share the sum, and more
 ///   (`idle`): an arm is idle before its first grip and after its last release. A block
 ///   with k blocks above it at the start is gripped no earlier than k grips after the start
 ///   (each one above must be gripped and lifted first, one after another); one with k blocks
@@ -375,9 +408,14 @@ pub struct LowerBound {
     /// `waiting` proves of the others).
     pub aside: i64,
     /// The least work that blocks lifted before a block below them moves add (held in the air
-    /// through its move, or put down and moved again); `work` counts the larger of this and
-    /// `aside`.
+    /// through its move, or put down and moved again); `work` counts the largest of this,
+    /// `aside` and `emptying`.
     pub waiting: i64,
+    /// The least work, beyond their round trips, that the blocks of cells that must empty add
+    /// (see `Rung::emptying`): at the moment such a cell is empty its blocks stand on buffer
+    /// cells of their own, which may be far, or are in the air, which they have been since
+    /// they left.
+    pub emptying: i64,
     /// The least time, included in `work`, the arms spend idle before their first grip and
     /// after their last release, when every arm works.
     pub idle: i64,
@@ -406,8 +444,13 @@ impl Rung {
     /// The lower bound on the makespan of this rung's plans (see [`LowerBound`]), with the
     /// durations of the KB `session` holds (the rung's problem 0).
     pub fn lower_bound(&self, session: &mut Session) -> LowerBound {
+        self.lower_bound_of(&self.layout(), session)
+    }
+
+    /// The lower bound on the makespan of `layout`'s plans with this rung's family and arms.
+    pub fn lower_bound_of(&self, layout: &Layout, session: &mut Session) -> LowerBound {
         use crate::ir::hir::{Args, Term};
-        let (init, goal) = self.towers();
+        let (init, goal) = (layout.init.clone(), layout.goal.clone());
         let atom = |session: &mut Session, name: &str| Term::Atom(session.intern(name));
         let (arm, block) = (atom(session, "a1"), atom(session, "b1"));
         // Each least duration the bound uses, noting whether every duration it asks for (least
@@ -446,7 +489,7 @@ impl Rung {
             // started, and a move may start only towards a cell nothing stands on or heads
             // for), so it stops on a third cell first: at least the least such stop adds.
             let mut aside = 0;
-            let cells = self.cells();
+            let cells = layout.cells.clone();
             for cycle in grid_cycles(&from, &to) {
                 let mut least_extra = i64::MAX;
                 for &b in &cycle {
@@ -471,6 +514,7 @@ impl Rung {
                 chain: 0,
                 aside,
                 waiting: 0,
+                emptying: 0,
                 idle: 0,
             };
         }
@@ -496,7 +540,7 @@ impl Rung {
         let (from, to) = (place(&init), place(&goal));
         // Where a block may stand on its way: std/blocks.pl ends a move only on the block's goal
         // cell or on a buffer cell (one the goal leaves empty, on its table).
-        let cells = self.cells();
+        let cells = layout.cells.clone();
         let n = cells.len();
         let buffers: Vec<(usize, usize)> =
             cells.iter().copied().filter(|c| !to.values().any(|(t, _)| t == c)).collect();
@@ -593,6 +637,13 @@ impl Rung {
             through,
         );
         let aside = self.put_aside(&init, &goal, &works, &buffers, &waiting, through);
+        let emptying = Self::emptying(
+            (&init, &goal, &to),
+            (&cells, &is_buffer),
+            (&cycle, &path),
+            (grip, release, self.arms.max(1)),
+            round_trip,
+        );
         // Idle at the ends: how long each block waits at least before its first grip (one
         // grip per block above it at the start) and is done at least before the end (one
         // release per block above it in its goal tower).
@@ -615,7 +666,7 @@ impl Rung {
         let work = (1..=self.arms.max(1))
             .map(|u| {
                 let idle: i64 = firsts[..u].iter().chain(&lasts[..u]).sum();
-                (total + aside.max(waiting.extra()) + idle + u as i64 - 1) / u as i64
+                (total + aside.max(waiting.extra()).max(emptying) + idle + u as i64 - 1) / u as i64
             })
             .min()
             .unwrap_or(0);
@@ -676,8 +727,101 @@ impl Rung {
             chain,
             aside,
             waiting: waiting.extra(),
+            emptying,
             idle,
         }
+    }
+
+    /// The least work, beyond each block's least round trip, that the blocks of a cell that
+    /// must empty add (see `LowerBound::emptying`). `cycle` and `path` are the least work of
+    /// one cycle and of a path of cycles through buffer cells between two cells (indices into
+    /// `cells`), `round_trip` a block's least work off a cell and back.
+    ///
+    /// A cell s counts when its goal tower's bottom block is not the one at the bottom at the
+    /// start (so s is empty at some moment T: when its first block's last move from it
+    /// starts), and every goal `on(X, Y)` at s with Y at s at the start has X below Y at the
+    /// start. Then no block is put on s's stack before T (the first to be would be some X on a
+    /// Y that has not left, with X still below it), so the blocks leave s once each, from the
+    /// top: a block with i blocks below it leaves at T - i grips at the latest (a block is
+    /// gripped only once the one on it is lifted). At T, each block of s above the bottom whose
+    /// goal is on s is off s and on no other goal cell (std/blocks.pl stands a block only on
+    /// its goal cell or a buffer cell): alone on a buffer cell c, at least
+    /// `path(s, c) + path(c, s)` in all; or in the air, on its first move (which lasts i grips
+    /// at least, and lands on a buffer c from which it must come back) or on a later one (three
+    /// cycles at least: out, on, back), held by an arm of its own (and the bottom block's arm
+    /// is gripping it, so `arms - 1` blocks at most are in the air). The extra is the least
+    /// over which blocks take which buffer cells (one each).
+    fn emptying(
+        (init, goal, to): (&[Tower], &[Tower], &Places),
+        (cells, is_buffer): (&[(usize, usize)], &[bool]),
+        (cycle, path): (&[i64], &[i64]),
+        (grip, release, arms): (i64, i64, usize),
+        round_trip: impl Fn((usize, usize)) -> i64,
+    ) -> i64 {
+        let n = cells.len();
+        let add = |a: i64, b: i64| if a == i64::MAX || b == i64::MAX { i64::MAX } else { a + b };
+        let mut extra = 0;
+        for (cell, tower) in init {
+            let Some((_, goal_tower)) = goal.iter().find(|(c, _)| c == cell) else { continue };
+            if tower.is_empty() || goal_tower.first() == tower.first() {
+                continue;
+            }
+            let level = |b: &usize| tower.iter().position(|x| x == b);
+            let nothing_put_back = goal_tower
+                .windows(2)
+                .all(|w| level(&w[0]).is_none_or(|below| level(&w[1]).is_some_and(|above| above < below)));
+            let Some(s) = cells.iter().position(|c| c == cell) else { continue };
+            if !nothing_put_back {
+                continue;
+            }
+            let base = round_trip(*cell);
+            let buffers: Vec<usize> = (0..n).filter(|&c| c != s && is_buffer[c]).collect();
+            // Each buffer cell's extra, for a block standing on it at T, cheapest first.
+            let mut on_buffer: Vec<i64> = buffers
+                .iter()
+                .map(|&c| add(path[s * n + c], path[c * n + s]))
+                .filter(|&w| w != i64::MAX)
+                .map(|w| (w - base).max(0))
+                .collect();
+            on_buffer.sort_unstable();
+            // Three cycles at least (out, on to another buffer, back): the least extra of a
+            // block in the air at T on a later move than its first.
+            let later = buffers
+                .iter()
+                .flat_map(|&a| buffers.iter().filter(move |&&b| b != a).map(move |&b| (a, b)))
+                .map(|(a, b)| add(add(path[s * n + a], cycle[a * n + b]), path[b * n + s]))
+                .min()
+                .unwrap_or(i64::MAX);
+            // Each block's extra in the air at T, most first.
+            let mut in_air: Vec<i64> = Vec::new();
+            for (below, b) in tower.iter().enumerate().skip(1) {
+                if to.get(b).is_none_or(|(target, _)| target != cell) {
+                    continue;
+                }
+                let held = grip.saturating_mul(below as i64);
+                let first = buffers
+                    .iter()
+                    .filter(|&&c| cycle[s * n + c] != i64::MAX)
+                    .map(|&c| add(grip + (cycle[s * n + c] - grip - release).max(held) + release, path[c * n + s]))
+                    .min()
+                    .unwrap_or(i64::MAX);
+                let least = first.min(later);
+                if least == i64::MAX {
+                    continue;
+                }
+                in_air.push((least - base).max(0));
+            }
+            in_air.sort_unstable_by(|a, b| b.cmp(a));
+            // The m blocks of most extra in the air take the m cheapest buffer cells; the
+            // others, `arms - 1` at most, are in the air.
+            let fewest = in_air.len().saturating_sub(arms - 1);
+            let best = (fewest..=in_air.len().min(on_buffer.len()))
+                .map(|m| on_buffer[..m].iter().sum::<i64>() + in_air[m..].iter().sum::<i64>())
+                .min()
+                .unwrap_or(0);
+            extra += best;
+        }
+        extra
     }
 
     /// The `arms` least of the times `offsets` (one per block), each also repeated `cycle`

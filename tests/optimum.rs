@@ -426,6 +426,57 @@ fn the_proven_bound_never_exceeds_the_optimum_and_no_plan_beats_it() {
 }
 
 #[test]
+fn the_bound_on_a_cell_that_must_empty_never_exceeds_the_optimum() {
+    // A tower of four on (1, 1), the end of a row of five cells, turned upside down by two
+    // arms: when its bottom block leaves, the three above it are on buffer cells of their own
+    // or in the air, and only one can be in the air (the other arm lifts the bottom block). So
+    // two stand on (2, 1) and (3, 1) at least, one two cells away: the bound counts that
+    // block's longer round trip (`LowerBound::emptying`), which the ladder's rungs, with
+    // buffer cells all round their towers, never need. The reference must agree it is real.
+    let rung = Rung { family: Family::Reverse, blocks: 4, arms: 2, seed: 1 };
+    let layout = ladder::Layout {
+        cells: (1..=5).map(|x| (x, 1)).collect(),
+        init: vec![((1, 1), vec![1, 2, 3, 4])],
+        goal: vec![((1, 1), vec![4, 3, 2, 1])],
+    };
+    let source = rung.source_of(&layout);
+    let mut db = kbc::source::SourceDb::new();
+    let root = db.add("row.pl", None, source.clone());
+    let mut session = kbc::session::Session::open(db, &[root], &mut kbc::passes::load::NoIncludes);
+    assert!(!session.has_errors(), "the goal file checks");
+    let bound = rung.lower_bound_of(&layout, &mut session);
+    let unit = kbc::ir::stn::UNITS;
+    // The three blocks above the bottom: (3, 1) costs two units more than (2, 1) there and back.
+    assert_eq!(bound.emptying, 2 * unit, "{bound:?}");
+    let optimum = parse(&source).optimum(LIMIT).expect("an optimum");
+    assert!(bound.makespan <= optimum * unit, "bound {bound:?} above the optimum {optimum}");
+    println!("row tower: optimum {optimum}, bound {}", bound.makespan as f64 / unit as f64);
+    // More towers and arms: the bound stays at most the optimum wherever it counts something.
+    let variants = [
+        (3, vec![((1, 1), vec![1, 2, 3, 4])], 6),
+        (2, vec![((3, 1), vec![1, 2, 3, 4])], 5),
+        (2, vec![((1, 1), vec![1, 2, 3]), ((5, 1), vec![4, 5])], 5),
+        (3, vec![((1, 1), vec![1, 2, 3, 4, 5])], 7),
+    ];
+    let mut counted = 0;
+    for (arms, init, width) in variants {
+        let rung = Rung { family: Family::Reverse, blocks: 5, arms, seed: 1 };
+        let goal = init.iter().map(|(c, t)| (*c, t.iter().rev().copied().collect())).collect();
+        let layout = ladder::Layout { cells: (1..=width).map(|x| (x, 1)).collect(), init, goal };
+        let source = rung.source_of(&layout);
+        let mut db = kbc::source::SourceDb::new();
+        let root = db.add("row.pl", None, source.clone());
+        let mut session = kbc::session::Session::open(db, &[root], &mut kbc::passes::load::NoIncludes);
+        let bound = rung.lower_bound_of(&layout, &mut session);
+        let optimum = parse(&source).optimum(LIMIT).expect("an optimum");
+        println!("{layout:?}, {arms} arms: optimum {optimum}, bound {bound:?}");
+        assert!(bound.makespan <= optimum * unit, "{layout:?}: bound {bound:?} above the optimum {optimum}");
+        counted += usize::from(bound.emptying > 0);
+    }
+    assert!(counted > 0, "no variant counts a cell that must empty");
+}
+
+#[test]
 fn a_block_sent_to_a_cell_being_cleared_makes_the_optimum_of_a_corner_tower() {
     // reverse_b03_a3_s3: the tower b3, b1, b2 on (5, 1), the corner of a row of five cells,
     // turned upside down by three arms. Its optimum puts every block down on (4, 1), the one

@@ -180,6 +180,7 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                         "chain": b.chain as f64 / UNITS as f64,
                         "aside": b.aside as f64 / UNITS as f64,
                         "waiting": b.waiting as f64 / UNITS as f64,
+                        "emptying": b.emptying as f64 / UNITS as f64,
                         "idle": b.idle as f64 / UNITS as f64,
                     })),
                     "expanded": row.expanded,
