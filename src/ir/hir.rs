@@ -453,6 +453,9 @@ pub struct Prelude {
     pub vars: VarTable,
     /// The goals before `go`, as written.
     pub span: Span,
+    /// Whether the `prelude` pass has set the problem's states from the goals (false when
+    /// they failed, stopped with an error, or gave something other than two lists).
+    pub resolved: bool,
 }
 
 impl Problem {

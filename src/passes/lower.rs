@@ -852,6 +852,7 @@ impl Lowerer<'_> {
                 goal_spans: spans(&args[1]),
                 vars: VarTable::default(),
                 span: first.span.to(last.span),
+                resolved: false,
             });
         }
         if let (Some(first), Some(last)) = (test.after.first(), test.after.last()) {

@@ -71,6 +71,9 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
             );
         }
         let problem = &mut kb.problems[index];
+        if let Some(prelude) = problem.prelude.as_mut() {
+            prelude.resolved = true;
+        }
         let (ground, open): (Vec<Literal>, Vec<Literal>) = init.into_iter().partition(|l| l.term.is_ground());
         problem.init = ground;
         problem.open_init = open;
@@ -110,10 +113,18 @@ fn first_solution(
             "in Prolog this test fails before planning; check the facts these goals read \
              (`swipl kb.pl`, then ask them)",
         ))),
-        (Err(error), _) => Err(Box::new(failed(
-            format!("the goals before `go` stop with an error: {}", error.message(interner)),
-            "while running these",
-        ))),
+        (Err(error), _) => {
+            let stopped = failed(
+                format!("the goals before `go` stop with an error: {}", error.message(interner)),
+                "while running these",
+            );
+            Err(Box::new(match error {
+                crate::engine::EngineError::Budget { .. } => stopped.with_help(
+                    "these goals loop, or compute more than kbc allows a test; write the states out in the `go` call",
+                ),
+                _ => stopped,
+            }))
+        }
     }
 }
 
