@@ -171,7 +171,8 @@ enum Raw {
     Name,
     #[regex(r"[A-Z_][a-zA-Z0-9_]*")]
     Var,
-    #[regex(r"[0-9]+")]
+    // SWI-Prolog's digit groups: `1_000_000` is 1000000.
+    #[regex(r"[0-9]+(_[0-9]+)*")]
     Int,
     #[regex(r"0x[0-9a-fA-F]+|0o[0-7]+|0b[01]+")]
     RadixInt,
@@ -699,6 +700,13 @@ impl Lexer<'_> {
     }
 
     fn integer(&mut self, digits: &str, radix: u32, start: u32, end: u32, negative: bool) -> Option<Token> {
+        let grouped;
+        let digits = if digits.contains('_') {
+            grouped = digits.replace('_', "");
+            grouped.as_str()
+        } else {
+            digits
+        };
         // Up to 18 decimal digits cannot overflow an i64: add them up directly.
         if radix == 10 && digits.len() <= 18 {
             let value = digits.bytes().fold(0i64, |v, b| v * 10 + i64::from(b - b'0'));
@@ -942,6 +950,14 @@ mod tests {
         assert!(toks.contains(&Tok::Int(Word64::int(1))));
         assert!(toks.contains(&Tok::Op(sym::MINUS)));
         assert!(toks.contains(&Tok::Float(Word64::float(-2.5))));
+    }
+
+    #[test]
+    fn digit_groups_read_as_one_integer() {
+        let (toks, codes, _) = cook("p(1_000_000, -2_5, 10_000_000_000_000_000_000)");
+        assert_eq!(toks[2], Tok::Int(Word64::int(1_000_000)));
+        assert_eq!(toks[4], Tok::Int(Word64::int(-25)));
+        assert_eq!(codes, vec!["E0112"], "twenty digits do not fit in 64 bits");
     }
 
     #[test]
