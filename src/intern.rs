@@ -118,6 +118,7 @@ well_known_symbols! {
     BACKSLASH = "\\",
     CONSULT = "consult",
     LOAD_FILES = "load_files",
+    COLON = ":",
 }
 
 /// The table of interned names.

@@ -1100,6 +1100,10 @@ impl<'p> Machine<'p> {
                 Ok(Some(self.push_goal(args[0], cut, next)))
             }
             (sym::ARROW, 2) => Ok(Some(self.if_then_else(args[0], args[1], None, cut, next))),
+            // `Module:Goal`: kbc has no modules; the goal is the KB's or the library's.
+            (sym::COLON, 2) if matches!(self.deref(args[0]), Cell::Atom(_)) => {
+                Ok(Some(self.push_goal(args[1], cut, next)))
+            }
             (sym::NOT_PROVABLE | sym::NOT, 1) => {
                 // \+ G is (G -> fail ; true).
                 Ok(Some(self.if_then_else(args[0], Cell::Atom(sym::FAIL), Some(Cell::Atom(sym::TRUE)), cut, next)))

@@ -433,6 +433,13 @@ impl<'p> Machine<'p> {
 
     /// A goal with `extra` arguments appended (`call/N`).
     fn add_args(&mut self, goal: Cell, extra: &[Cell]) -> Result<Cell, EngineError> {
+        // `Module:Closure` (kbc has no modules): the closure, with the arguments added.
+        if !extra.is_empty()
+            && let Some((sym::COLON, &[module, closure])) = self.compound(goal)
+            && matches!(self.deref(module), Cell::Atom(_))
+        {
+            return self.add_args(closure, extra);
+        }
         match self.deref(goal) {
             g if extra.is_empty() => Ok(g),
             Cell::Atom(f) => Ok(self.new_compound(f, extra)),

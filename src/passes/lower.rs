@@ -273,6 +273,11 @@ impl Lowerer<'_> {
                 (sym::NOT_PROVABLE | sym::NOT, 1) => {
                     return self.goal(&c.args[0], scope).map(|g| Goal::Not(Box::new(g)));
                 }
+                // A module-qualified goal (`lists:append(A, B, C)`): kbc has no modules, so
+                // every predicate is the KB's or the library's, which is what the goal calls.
+                (sym::COLON, 2) if matches!(c.args[0].kind, TermKind::Atom(_)) => {
+                    return self.goal(&c.args[1], scope);
+                }
                 _ => {}
             }
         }
@@ -316,6 +321,11 @@ impl Lowerer<'_> {
             // A variable or a number: what is called is known only at run time.
             let Some((name, arity)) = term.callable() else { continue };
             let syntax = syntax.filter(|s| s.callable() == Some((name, arity)));
+            // `Module:Goal` calls the goal (kbc has no modules), with the arguments appended.
+            if (name, arity) == (sym::COLON, 2) && matches!(term.args()[0], Term::Atom(_)) {
+                pending.push((&term.args()[1], syntax.and_then(|s| s.args().get(1)), extra));
+                continue;
+            }
             if extra == 0 {
                 let operands: Option<Vec<&Term>> = match (name, arity) {
                     (sym::COMMA | sym::SEMI | sym::ARROW, 2) => Some(term.xfy_operands(name)),

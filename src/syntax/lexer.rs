@@ -782,6 +782,7 @@ impl Lexer<'_> {
             ">>" => Some(sym::SHIFT_RIGHT),
             "**" => Some(sym::POWER),
             "^" => Some(sym::CARET),
+            ":" => Some(sym::COLON),
             "\\" => Some(sym::BACKSLASH),
             ":-" => Some(sym::NECK),
             "->" => Some(sym::ARROW),

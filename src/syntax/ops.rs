@@ -80,7 +80,7 @@ pub fn infix(name: Symbol) -> Option<OpDef> {
         | sym::SHIFT_LEFT
         | sym::SHIFT_RIGHT => (400, OpType::Yfx),
         sym::POWER => (200, OpType::Xfx),
-        sym::CARET => (200, OpType::Xfy),
+        sym::CARET | sym::COLON => (200, OpType::Xfy),
         _ => return None,
     };
     Some(OpDef { priority, kind })

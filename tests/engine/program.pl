@@ -83,3 +83,4 @@ owns(cid, cat).
 tree(T, T) :- atomic(T), !.
 tree(T, V) :- var(T), !, V = var.
 tree(T, [F|Ts]) :- T =.. [F|As], maplist(tree, As, Ts).
+qualified(L) :- lists:append([a], [b], L0), user:reverse(L0, L).

@@ -328,3 +328,10 @@ q(422, C, tree(2 - (-3), C)).
 q(423, C, tree(f(a:-b), C)).
 q(424, C, tree(1.5e3 * 0x1F - 0'a, C)).
 q(425, X-Y, (X = 1_000_000, Y is 2_500 * -1_0)).
+q(426, L, lists:append([a], [b], L)).
+q(427, X, call(user:member(X, [z, y]))).
+q(428, C, tree(a:b:c, C)).
+q(429, L, findall(X, lists:member(X, [p, q]), L)).
+q(430, L, qualified(L)).
+q(431, L, maplist(lists:reverse, [[a, b], [c]], L)).
+q(432, X, call(lists:member, X, [u, v])).
