@@ -451,18 +451,19 @@ impl Lowerer<'_> {
     }
 
     fn rule(&mut self, head: &ast::Term, body: &ast::Term, span: Span) {
-        if let Some(test) = problem_in_body(body) {
+        if let Some(test) = problem_in_body(body, self.interner) {
             self.head_site(head);
             self.go_problem(head, &test, span);
             return;
         }
-        if contains_go_call(body) {
+        if contains_go_call(body, self.interner) {
             self.diags.push(
-                Diagnostic::error(codes::BAD_PROBLEM, "a test's `go` call must be one of its body's goals, once")
-                    .primary(body.span, "`go/N` inside a disjunction, a negation or an if-then, or called twice")
+                Diagnostic::error(codes::BAD_PROBLEM, "kbc cannot tell when this test runs its `go` call")
+                    .primary(body.span, "`go/N` in a negation, after another goal of a branch, or called twice")
                     .with_note(
-                        "kbc reads a test as goals that give `go/2`, `go/4` or `go/5` its states, the `go` call, \
-                         then goals it does not run",
+                        "kbc reads a test as goals that give `go/2`, `go/4` or `go/5` its states, then the \
+                         `go` call (alone, or first in an if-then-else, a disjunction or `once/1`), then goals \
+                         it does not run",
                     )
                     .with_help("write `name :- go([...], [...]).`, or one test per `go` call"),
             );
@@ -871,8 +872,8 @@ impl Lowerer<'_> {
                     .primary(first.span.to(last.span), "not run")
                     .secondary(go.span, "kbc plans this call")
                     .with_note(
-                        "Prolog would run them once `go` has found a plan, and ask `go` for another plan \
-                         if they failed; kbc gives the first plan and runs nothing after it",
+                        "Prolog runs them after `go` (an else branch when it finds no plan), and asks `go` \
+                         for another plan if they fail; kbc gives the first plan and runs none of them",
                     )
                     .with_help("to print or check the plan, run kbc's output (`kbc plan`, `kbc validate`)"),
             );
@@ -1281,28 +1282,55 @@ pub struct TestBody<'a> {
     pub before: Vec<&'a ast::Term>,
     /// The `go/2`, `go/4` or `go/5` call.
     pub go: &'a ast::Term,
-    /// Goals kbc does not run (warning W0017).
+    /// Goals kbc does not run (warning W0017): those after the call, and the branches of an
+    /// if-then-else or a disjunction the call is the condition or first branch of.
     pub after: Vec<&'a ast::Term>,
 }
 
-/// `body` as a test: a conjunction with one `go/N` call among its goals, and no other goal
-/// that calls `go` (inside a disjunction, say).
-pub fn problem_in_body(body: &ast::Term) -> Option<TestBody<'_>> {
+/// `body` as a test: a conjunction with one goal that calls `go/N`, either the call or one
+/// that runs it first (see [`leading_go`]), and no other goal that calls `go`.
+pub fn problem_in_body<'a>(body: &'a ast::Term, interner: &Interner) -> Option<TestBody<'a>> {
     let goals = body.xfy_operands(sym::COMMA);
-    let mut calls = goals.iter().enumerate().filter(|(_, g)| contains_go_call(g));
-    let (at, go) = calls.next()?;
-    if calls.next().is_some() || !matches!(go.callable(), Some((sym::GO, 2 | 4 | 5))) {
+    let mut calls = goals.iter().enumerate().filter(|(_, g)| contains_go_call(g, interner));
+    let (at, first) = calls.next()?;
+    if calls.next().is_some() {
         return None;
     }
-    Some(TestBody { before: goals[..at].to_vec(), go, after: goals[at + 1..].to_vec() })
+    let mut after = Vec::new();
+    let go = leading_go(first, interner, &mut after)?;
+    after.extend(goals[at + 1..].iter().copied());
+    Some(TestBody { before: goals[..at].to_vec(), go, after })
 }
 
-fn contains_go_call(t: &ast::Term) -> bool {
-    match &t.kind {
-        TermKind::Compound(c) if matches!(c.functor, sym::COMMA | sym::SEMI | sym::ARROW) => {
-            c.args.iter().any(contains_go_call)
+/// The `go/N` call that goal `t` runs before anything else, if it does: the call itself, or
+/// the first goal of `(G -> T ; E)`, `(G -> T)`, `(G ; E)`, `(G, R)`, `once(G)`, `call(G)`
+/// or `ignore(G)` that is such a goal. What runs only after the call, or instead of it (`T`,
+/// `E`, `R`), is added to `rest`, in source order.
+fn leading_go<'a>(t: &'a ast::Term, interner: &Interner, rest: &mut Vec<&'a ast::Term>) -> Option<&'a ast::Term> {
+    let wrapper = |name| ["once", "call", "ignore"].iter().any(|w| interner.get(w) == Some(name));
+    match t.callable()? {
+        (sym::GO, 2 | 4 | 5) => Some(t),
+        (sym::SEMI | sym::ARROW | sym::COMMA, 2) => {
+            let go = leading_go(&t.args()[0], interner, rest)?;
+            rest.push(&t.args()[1]);
+            Some(go)
         }
-        _ => matches!(t.callable(), Some((sym::GO, 2 | 4 | 5))),
+        (name, 1) if wrapper(name) => leading_go(&t.args()[0], interner, rest),
+        _ => None,
+    }
+}
+
+/// Whether goal `t` calls `go/N` anywhere in its control constructs (`,`, `;`, `->`, `\+`)
+/// or in `once/1`, `call/1` or `ignore/1`.
+fn contains_go_call(t: &ast::Term, interner: &Interner) -> bool {
+    let wrapper = |name| ["once", "call", "ignore"].iter().any(|w| interner.get(w) == Some(name));
+    match t.callable() {
+        Some((sym::COMMA | sym::SEMI | sym::ARROW, 2) | (sym::NOT_PROVABLE | sym::NOT, 1)) => {
+            t.args().iter().any(|a| contains_go_call(a, interner))
+        }
+        Some((name, 1)) if wrapper(name) => contains_go_call(&t.args()[0], interner),
+        Some((sym::GO, 2 | 4 | 5)) => true,
+        _ => false,
     }
 }
 

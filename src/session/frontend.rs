@@ -56,7 +56,7 @@ pub(super) fn run(db: &mut SourceDb, roots: &[FileId], loader: &mut dyn SourceLo
         declares_mappings |= matches!(head.callable(), Some((sym::MAPPING, _)));
         declares_problems |=
             matches!(head.callable(), Some((sym::INIT_STATE | sym::GOAL_STATE | sym::HL_INIT | sym::HL_GOAL, 1)))
-                || body.is_some_and(|b| lower::problem_in_body(b).is_some());
+                || body.is_some_and(|b| lower::problem_in_body(b, &interner).is_some());
     }
     let mut uses_std_domain = false;
     let loaded = if declares_mappings && !declares_ll_actions {

@@ -1,1 +1,0 @@
-test1 :- ( go([available(a1), ontable(b1, 1, 1), clear(b1)], [ontable(b1, 2, 2)]) ; true ).
