@@ -1038,13 +1038,23 @@ fn interchangeable_constants_are_those_the_kb_never_tells_apart() {
         // Static facts that say the same of each agent keep them alike.
         // (Blocks are candidates here too, each with facts of its own.)
         ("agents as facts", grid.source(), &GRID, &[("a1", "a3")], &[("b1", "b2")]),
-        // A fact only one agent has: a candidate still, but alone in its class.
+        // A fact only one agent has, which planning reads: a candidate still, but alone in its
+        // class.
         (
             "one agent with a fact of its own",
-            format!("{}fast(a2).\n", grid.source()),
+            format!("{}fast(a2).\npos(9, 9) :- fast(_).\n", grid.source()),
             &GRID,
             &[("a1", "a3")],
             &[("a1", "a2"), ("a2", "a3")],
+        ),
+        // The same fact where nothing planning runs reads it (a test's own data, say): it
+        // tells nothing apart.
+        (
+            "one agent with a fact nothing reads",
+            format!("{}fast(a2).\n", grid.source()),
+            &GRID,
+            &[("a1", "a2"), ("a2", "a3")],
+            &[],
         ),
         // With a cut planning can reach (an OnKB goal calls `pos/2`), reordering the agents'
         // facts could change a first solution: facts with a candidate are then not swapped.

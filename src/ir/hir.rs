@@ -427,14 +427,6 @@ pub struct Problem {
     pub prelude: Option<Box<Prelude>>,
 }
 
-/// Whether `name/arity` is one of the problem states kbc reads as declarations and keeps as
-/// plain facts as well (`init_state/1`, `goal_state/1`, `hl_init/1`, `hl_goal/1`, `ll_init/1`,
-/// `ll_goal/1`).
-pub fn is_state_declaration(name: Symbol, arity: usize) -> bool {
-    arity == 1
-        && matches!(name, sym::INIT_STATE | sym::GOAL_STATE | sym::HL_INIT | sym::HL_GOAL | sym::LL_INIT | sym::LL_GOAL)
-}
-
 /// The goals of a test before its `go` call, which give `go` its states ([`Problem::prelude`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prelude {

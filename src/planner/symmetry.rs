@@ -15,9 +15,11 @@
 //! What makes a constant a *candidate* ([`Symmetry::new`]) is decided once, conservatively,
 //! from the KB's text: an atom (never a number: arithmetic tells numbers apart) that appears
 //! in no action schema of either level, no mapping, no `resources/1` template, no arm-level
-//! state, no rule and no problem fact with a variable; only in the problem's initial facts and
-//! in ground facts (static unit clauses and the problem's ground goal literals), and there
-//! once, as a whole argument. Two candidates with the same facts up to the candidate itself
+//! state, no rule planning runs and no problem fact with a variable; only in the problem's
+//! initial facts and in ground facts (static unit clauses of predicates planning reads, and the
+//! problem's ground goal literals), and there once, as a whole argument. (Facts and rules no
+//! OnKB goal or `duration/3` reaches, such as a test's own data or a KB's own planner, tell
+//! nothing apart.) Two candidates with the same facts up to the candidate itself
 //! (`agent(_)`, `available(_)` in the goal) are alike in the task. Facts are clauses of the
 //! program the engine proves OnKB goals with, and swapping two constants reorders those
 //! clauses; solutions are then the same set in another order, which only matters where the
@@ -206,10 +208,9 @@ impl Symmetry {
         for clause in &kb.clauses {
             match &clause.body {
                 Some(_) if !runs(&clause) => {}
-                // The problems' states are facts too (a test may read them before its `go`
-                // call), but planning reads them only if a rule it runs does.
-                None if crate::ir::hir::is_state_declaration(clause.head.name(), clause.head.arity())
-                    && !runs(&clause) => {}
+                // A fact planning never reads tells nothing apart: the problems' states (a test
+                // may read them before its `go` call), the facts of a test's own goals.
+                None if !runs(&clause) => {}
                 Some(body) => {
                     commit |= commits(body);
                     literals.push(&clause.head);
