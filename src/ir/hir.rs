@@ -422,8 +422,8 @@ pub struct Problem {
     /// leaves them out.
     pub open_init: Vec<Literal>,
     /// For a test whose `go` call follows other goals (`test :- start(I), end(G), go(I, G).`):
-    /// those goals and `go`'s arguments as written. The `prelude` pass runs them and sets
-    /// `init`, `goal` and `vars` from their first solution.
+    /// those goals and `go`'s arguments as written, whose variables are `vars` until the
+    /// `prelude` pass runs them and sets `init`, `goal` and `vars` from their first solution.
     pub prelude: Option<Box<Prelude>>,
 }
 
@@ -441,8 +441,6 @@ pub struct Prelude {
     pub init_spans: (Span, Vec<Span>),
     /// See `init_spans`.
     pub goal_spans: (Span, Vec<Span>),
-    /// The variable table the goals' terms use (the problem's as lowered).
-    pub vars: VarTable,
     /// The goals before `go`, as written.
     pub span: Span,
     /// Whether the `prelude` pass has set the problem's states from the goals (false when

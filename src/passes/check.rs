@@ -396,7 +396,7 @@ impl Checker<'_> {
             }
             let name = self.name(key.0).to_string();
             if DECLARATIONS.contains(&(name.as_str(), key.1, false)) {
-                continue; // a state declaration, which is also a fact
+                continue; // a declaration whose facts are also clauses (`duration/3`, the states)
             }
             if let Some(&(_, arity, _)) = DECLARATIONS.iter().find(|d| d.0 == name && d.1 != key.1) {
                 // The declaration's name with another number of arguments (`duration(wait, 2)`).

@@ -861,7 +861,6 @@ impl Lowerer<'_> {
                 goal,
                 init_spans: spans(&args[0]),
                 goal_spans: spans(&args[1]),
-                vars: VarTable::default(),
                 span: first.span.to(last.span),
                 resolved: false,
             });
@@ -878,33 +877,17 @@ impl Lowerer<'_> {
                     .with_help("to print or check the plan, run kbc's output (`kbc plan`, `kbc validate`)"),
             );
         }
-        if let Some(mut prelude) = prelude {
-            for arg in args.iter().skip(2) {
-                self.term(arg, &mut scope);
-            }
-            self.singletons(&scope, &[]);
-            prelude.vars = scope.table.clone();
-            let max_depth = self.max_depth(args);
-            self.add_problem(Problem {
-                name,
-                name_span: head.name_span(),
-                init: Vec::new(),
-                goal: Vec::new(),
-                max_depth,
-                form: ProblemForm::Go(args.len() as u8),
-                vars: scope.table,
-                span,
-                level: Level::High,
-                open_init: Vec::new(),
-                prelude: Some(Box::new(prelude)),
-            });
-            return;
-        }
-        if !test.before.is_empty() {
+        if prelude.is_none() && !test.before.is_empty() {
             return; // a goal before `go` that does not lower (reported)
         }
-        let init = self.state_list(&args[0], &mut scope, "the initial state");
-        let goal = self.state_list(&args[1], &mut scope, "the goal state");
+        // Without a prelude, the states as written; with one, empty until the `prelude` pass.
+        let (init, goal) = match prelude {
+            Some(_) => (Some(Vec::new()), Some(Vec::new())),
+            None => (
+                self.state_list(&args[0], &mut scope, "the initial state"),
+                self.state_list(&args[1], &mut scope, "the goal state"),
+            ),
+        };
         for arg in args.iter().skip(2).take(2) {
             self.term(arg, &mut scope);
         }
@@ -924,7 +907,7 @@ impl Lowerer<'_> {
             span,
             level: Level::High,
             open_init,
-            prelude: None,
+            prelude: prelude.map(Box::new),
         });
     }
 
@@ -1007,12 +990,7 @@ impl Lowerer<'_> {
         }
         let them = if names.len() == 1 { "it" } else { "each" };
         self.diags.push(
-            diagnostic
-                .with_note("the initial state lists what is true, so every argument is usually known")
-                .with_note(format!(
-                    "as in Prolog, the plan may give {them} a value: kbc tries a value of its own first \
-                     (the variable left unbound), then each atom and integer of the KB"
-                ))
+            with_open_init_notes(diagnostic, them)
                 .with_help("replace the variable with a value; atoms start with a lower-case letter"),
         );
     }
@@ -1275,6 +1253,15 @@ fn is_effect_term(t: &ast::Term) -> bool {
 }
 
 /// The `go/2`, `go/4` or `go/5` call if `body` is exactly one.
+/// W0015's notes on an initial fact with variables, `them` being how to name them (`it`,
+/// `each`).
+pub fn with_open_init_notes(diagnostic: Diagnostic, them: &str) -> Diagnostic {
+    diagnostic.with_note("the initial state lists what is true, so every argument is usually known").with_note(format!(
+        "as in Prolog, the plan may give {them} a value: kbc tries a value of its own first (the variable left \
+         unbound), then each atom and integer of the KB"
+    ))
+}
+
 /// A test's body read as a problem: the goals before its `go/N` call, the call, and the goals
 /// after it.
 pub struct TestBody<'a> {
@@ -1307,7 +1294,7 @@ pub fn problem_in_body<'a>(body: &'a ast::Term, interner: &Interner) -> Option<T
 /// or `ignore(G)` that is such a goal. What runs only after the call, or instead of it (`T`,
 /// `E`, `R`), is added to `rest`, in source order.
 fn leading_go<'a>(t: &'a ast::Term, interner: &Interner, rest: &mut Vec<&'a ast::Term>) -> Option<&'a ast::Term> {
-    let wrapper = |name| ["once", "call", "ignore"].iter().any(|w| interner.get(w) == Some(name));
+    let wrapper = |name| calls_its_argument_once(name, interner);
     match t.callable()? {
         (sym::GO, 2 | 4 | 5) => Some(t),
         (sym::SEMI | sym::ARROW | sym::COMMA, 2) => {
@@ -1320,10 +1307,15 @@ fn leading_go<'a>(t: &'a ast::Term, interner: &Interner, rest: &mut Vec<&'a ast:
     }
 }
 
+/// Whether `name/1` is `once/1`, `call/1` or `ignore/1`, which run their argument as a goal.
+fn calls_its_argument_once(name: Symbol, interner: &Interner) -> bool {
+    ["once", "call", "ignore"].iter().any(|w| interner.get(w) == Some(name))
+}
+
 /// Whether goal `t` calls `go/N` anywhere in its control constructs (`,`, `;`, `->`, `\+`)
 /// or in `once/1`, `call/1` or `ignore/1`.
 fn contains_go_call(t: &ast::Term, interner: &Interner) -> bool {
-    let wrapper = |name| ["once", "call", "ignore"].iter().any(|w| interner.get(w) == Some(name));
+    let wrapper = |name| calls_its_argument_once(name, interner);
     match t.callable() {
         Some((sym::COMMA | sym::SEMI | sym::ARROW, 2) | (sym::NOT_PROVABLE | sym::NOT, 1)) => {
             t.args().iter().any(|a| contains_go_call(a, interner))

@@ -34,7 +34,7 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
     for (index, problem) in kb.problems.iter().enumerate() {
         let Some(prelude) = &problem.prelude else { continue };
         machine.reset();
-        match first_solution(&mut machine, prelude, interner) {
+        match first_solution(&mut machine, prelude, problem.vars.len(), interner) {
             Ok((init, goal, count)) => resolved.push((index, init, goal, count)),
             Err(diagnostic) => diags.push(*diagnostic),
         }
@@ -60,14 +60,12 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
         };
         for fact in init.iter().filter(|l| !l.term.is_ground()) {
             diags.push(
-                Diagnostic::warning(codes::OPEN_INIT, "an initial state fact with a variable")
-                    .primary(fact.span, format!("the goals before `go` leave `{}` here", shown(&fact.term)))
-                    .with_note("the initial state lists what is true, so every argument is usually known")
-                    .with_note(
-                        "as in Prolog, the plan may give it a value: kbc tries a value of its own first \
-                         (the variable left unbound), then each atom and integer of the KB",
-                    )
-                    .with_help("bind every argument in the goals before `go`"),
+                crate::passes::lower::with_open_init_notes(
+                    Diagnostic::warning(codes::OPEN_INIT, "an initial state fact with a variable")
+                        .primary(fact.span, format!("the goals before `go` leave `{}` here", shown(&fact.term))),
+                    "it",
+                )
+                .with_help("bind every argument in the goals before `go`"),
             );
         }
         let problem = &mut kb.problems[index];
@@ -82,14 +80,16 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
     }
 }
 
-/// The first solution of `prelude`'s goals: `go`'s two arguments, and how many variables
-/// they share (numbered from 0 by first occurrence, the initial state's first).
+/// The first solution of `prelude`'s goals (whose terms have `vars` variables, the
+/// problem's as lowered): `go`'s two arguments, and how many variables they share (numbered
+/// from 0 by first occurrence, the initial state's first).
 fn first_solution(
     machine: &mut Machine<'_>,
     prelude: &Prelude,
+    vars: usize,
     interner: &Interner,
 ) -> Result<(Term, Term, usize), Box<Diagnostic>> {
-    let mut cells = vec![None; prelude.vars.len()];
+    let mut cells = vec![None; vars];
     let query = machine.put_conjunction(&prelude.goals, &mut cells);
     let init = machine.put_term(&prelude.init, &mut cells);
     let goal = machine.put_term(&prelude.goal, &mut cells);
