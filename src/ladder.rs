@@ -26,6 +26,8 @@ use crate::source::SourceDb;
 use crate::validate;
 use kbvm::rng::Rng;
 
+mod exhaustive;
+
 /// A family of ladder problems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
@@ -394,9 +396,11 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 /// time is earlier.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LowerBound {
-    /// The bound: the largest of the three (rounded up to a whole time unit when the
-    /// durations are whole units).
+    /// The bound: the largest of `analytic` and `searched`.
     pub makespan: i64,
+    /// The largest of `work`, `block` and `chain` (rounded up to a whole time unit when the
+    /// durations are whole units): what the arguments about moments of any plan prove.
+    pub analytic: i64,
     /// The total minimal work and idle time divided among the arms.
     pub work: i64,
     /// The most minimal work of one block, with the grips before it and the releases after it.
@@ -419,7 +423,27 @@ pub struct LowerBound {
     /// The least time, included in `work`, the arms spend idle before their first grip and
     /// after their last release, when every arm works.
     pub idle: i64,
+    /// What a search of the rung's schedules proves (`ladder/exhaustive.rs`): their least
+    /// makespan when it finished within [`SEARCH_LIMIT`] states (`optimal`), else the least
+    /// estimate over the states it left open; 0 when it did not run (more than
+    /// [`SEARCH_BLOCKS`] blocks, the grid family, durations that are not whole time units).
+    pub searched: i64,
+    /// Whether `searched` is the optimum: no plan is shorter, and one as short exists (with
+    /// the separation of ordered snap actions taken as zero).
+    pub optimal: bool,
 }
+
+/// The states the search of [`LowerBound::searched`] stores at most on one rung (about 30 MB
+/// on an 8-block rung).
+pub const SEARCH_LIMIT: usize = 300_000;
+
+/// The most blocks of a rung the search of [`LowerBound::searched`] runs on. Within
+/// [`SEARCH_LIMIT`] it finds the optimum of most rungs of up to six blocks; what it proves
+/// beyond was more than the analytic bound on two 8-block rungs of seeds 1-3 (build_b08_a3_s1
+/// 19 against 18, build_b08_a3_s3 17 against 15) and on none of 10 to 30 blocks (measured
+/// with `kbc bench`); on the larger rungs each of its states is large and each has many
+/// successors, for nothing.
+pub const SEARCH_BLOCKS: usize = 8;
 
 /// What [`Rung::waiting`] proves of the blocks lifted before a block below them moves.
 #[derive(Default)]
@@ -509,6 +533,7 @@ impl Rung {
             let block = works.iter().copied().max().unwrap_or(0);
             return LowerBound {
                 makespan: rounded(work.max(block)),
+                analytic: rounded(work.max(block)),
                 work,
                 block,
                 chain: 0,
@@ -516,6 +541,8 @@ impl Rung {
                 waiting: 0,
                 emptying: 0,
                 idle: 0,
+                searched: 0,
+                optimal: false,
             };
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
@@ -720,8 +747,20 @@ impl Rung {
             }
             chain = chain.max(*ends.last().expect("the first block's"));
         }
+        let searched = if whole.get() && from.len() <= SEARCH_BLOCKS {
+            Self::searched(session, (&cells, &is_buffer, &path), (&from, &to), self.arms)
+        } else {
+            None
+        };
+        let (searched, optimal) = match searched {
+            Some(exhaustive::Searched::Optimum(t)) => (t * UNITS, true),
+            Some(exhaustive::Searched::AtLeast(t)) => (t * UNITS, false),
+            None => (0, false),
+        };
+        let analytic = rounded(work.max(block).max(chain));
         LowerBound {
-            makespan: rounded(work.max(block).max(chain)),
+            makespan: analytic.max(searched),
+            analytic,
             work,
             block,
             chain,
@@ -729,7 +768,66 @@ impl Rung {
             waiting: waiting.extra(),
             emptying,
             idle,
+            searched,
+            optimal,
         }
+    }
+
+    /// [`LowerBound::searched`]: the search of `ladder/exhaustive.rs` on these places, with
+    /// the KB's durations (whole units, as the caller checked) and `path`, the least work
+    /// between two cells through buffer cells. None when the goal cannot be reached or the
+    /// rung is too large to index with bytes.
+    fn searched(
+        session: &mut Session,
+        (cells, is_buffer, path): (&[(usize, usize)], &[bool], &[i64]),
+        (from, to): (&Places, &Places),
+        arms: usize,
+    ) -> Option<exhaustive::Searched> {
+        use crate::ir::hir::{Args, Term};
+        use exhaustive::{Span, Spot};
+        if cells.len() > u8::MAX as usize || from.len() > u8::MAX as usize {
+            return None;
+        }
+        let (arm, block) = (Term::Atom(session.intern("a1")), Term::Atom(session.intern("b1")));
+        let span = |session: &mut Session, name: &str, extra: &[Term]| {
+            let mut args = vec![arm.clone(), block.clone()];
+            args.extend_from_slice(extra);
+            let instance = Term::Compound(session.intern(name), Args::from(args));
+            let (least, most) = session.duration_bounds(0, &instance);
+            Span { least: least / UNITS, most: most.map(|m| m / UNITS) }
+        };
+        let (grip, release) = (span(session, "grip", &[]), span(session, "release", &[]));
+        let mut moves = Vec::with_capacity(cells.len() * cells.len());
+        for a in cells {
+            for b in cells {
+                let at = |c: usize| Term::Int(c as i64);
+                moves.push(span(session, "move_block", &[at(a.0), at(a.1), at(b.0), at(b.1)]));
+            }
+        }
+        let blocks: Vec<usize> = from.keys().copied().collect();
+        let index = |b: usize| blocks.iter().position(|&x| x == b).expect("a block of the rung") as u8;
+        let cell = |c: (usize, usize)| cells.iter().position(|&x| x == c).expect("a cell of the table") as u8;
+        let spots = |places: &Places| -> Vec<Spot> {
+            blocks
+                .iter()
+                .map(|b| match places[b] {
+                    (c, None) => Spot::Table(cell(c)),
+                    (c, Some(below)) => Spot::On { below: index(below), cell: cell(c) },
+                })
+                .collect()
+        };
+        let problem = exhaustive::Problem {
+            cells: cells.len(),
+            arms,
+            start: spots(from),
+            goal: spots(to),
+            buffer: is_buffer.to_vec(),
+            grip,
+            release,
+            moves,
+            path: path.iter().map(|&w| if w == i64::MAX { w } else { w / UNITS }).collect(),
+        };
+        problem.search(SEARCH_LIMIT)
     }
 
     /// The least work, beyond each block's least round trip, that the blocks of a cell that

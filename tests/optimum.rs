@@ -23,7 +23,9 @@
 //! shared by the arms, whichever is more; both are at most the time left. With whole durations
 //! an optimal schedule has whole times, so this finds the optimum with the separation at zero:
 //! no plan kbc may output is shorter, and kbc's lower bound, which counts durations only, may
-//! not exceed it.
+//! not exceed it. kbc's bound includes a search of its own over the same semantics
+//! (`src/ladder/exhaustive.rs`: other states, other estimate, its own reading of the rung);
+//! where that search finishes, it must find the optimum found here.
 //!
 //! `cargo test` checks the rungs of 2 to 4 blocks of three seeds (about 11 s in a debug
 //! build); `KBC_OPTIMUM_BLOCKS=6 cargo test --release --test optimum -- --nocapture` goes to
@@ -400,7 +402,7 @@ fn the_reference_finds_the_optimum_of_a_hand_solved_problem() {
 fn the_proven_bound_never_exceeds_the_optimum_and_no_plan_beats_it() {
     let most: usize = std::env::var("KBC_OPTIMUM_BLOCKS").ok().and_then(|v| v.parse().ok()).unwrap_or(4);
     let unit = kbc::ir::stn::UNITS;
-    let mut below = 0;
+    let (mut below, mut optimal) = (0, 0);
     let only = std::env::var("KBC_OPTIMUM_ONLY").unwrap_or_default();
     let rungs: Vec<Rung> = rungs(most).into_iter().filter(|r| r.name().contains(&only)).collect();
     for rung in &rungs {
@@ -419,10 +421,17 @@ fn the_proven_bound_never_exceeds_the_optimum_and_no_plan_beats_it() {
         // The bound counts durations only: it holds with the separation at zero.
         assert!(bound.makespan <= optimum * unit, "{}: bound {bound:?} above the optimum {optimum}", rung.name());
         assert!(makespan >= optimum * unit, "{}: a plan of {makespan} beats the optimum {optimum}", rung.name());
-        below += usize::from(bound.makespan < optimum * unit);
+        // kbc's own search of the schedules, where it finishes, finds the same optimum.
+        if bound.optimal {
+            assert_eq!(bound.searched, optimum * unit, "{}: kbc's search against the reference", rung.name());
+            optimal += 1;
+        }
+        below += usize::from(bound.analytic < optimum * unit);
     }
-    // And the reference is not the bound again: it finds more on some rungs.
-    assert!(below > 0, "the optimum equals the bound on all {} rungs", rungs.len());
+    // The reference is not the analytic bound again: it finds more on some rungs. And kbc's
+    // search finishes on some.
+    assert!(below > 0, "the optimum equals the analytic bound on all {} rungs", rungs.len());
+    assert!(optimal > 0, "kbc's search found no optimum on {} rungs", rungs.len());
 }
 
 #[test]
@@ -450,6 +459,7 @@ fn the_bound_on_a_cell_that_must_empty_never_exceeds_the_optimum() {
     assert_eq!(bound.emptying, 2 * unit, "{bound:?}");
     let optimum = parse(&source).optimum(LIMIT).expect("an optimum");
     assert!(bound.makespan <= optimum * unit, "bound {bound:?} above the optimum {optimum}");
+    assert!(bound.optimal && bound.searched == optimum * unit, "kbc's search: {bound:?}, the reference: {optimum}");
     println!("row tower: optimum {optimum}, bound {}", bound.makespan as f64 / unit as f64);
     // More towers and arms: the bound stays at most the optimum wherever it counts something.
     let variants = [
@@ -471,6 +481,9 @@ fn the_bound_on_a_cell_that_must_empty_never_exceeds_the_optimum() {
         let optimum = parse(&source).optimum(LIMIT).expect("an optimum");
         println!("{layout:?}, {arms} arms: optimum {optimum}, bound {bound:?}");
         assert!(bound.makespan <= optimum * unit, "{layout:?}: bound {bound:?} above the optimum {optimum}");
+        if bound.optimal {
+            assert_eq!(bound.searched, optimum * unit, "{layout:?}: kbc's search against the reference");
+        }
         counted += usize::from(bound.emptying > 0);
     }
     assert!(counted > 0, "no variant counts a cell that must empty");

@@ -318,8 +318,9 @@ fn the_makespan_lower_bound_holds_for_every_plan_found() {
         assert!(bound.makespan > 0, "{}: a bound of nothing", rung.name());
         assert!(bound.makespan <= makespan, "{}: bound {bound:?} above the makespan {makespan}", rung.name());
         // The largest of the three, rounded up to a whole unit (every duration of
-        // std/blocks.pl and the grid KBs is one).
-        assert_eq!(bound.makespan, whole_units(bound.work.max(bound.block).max(bound.chain)), "{bound:?}");
+        // std/blocks.pl and the grid KBs is one), or what the search of the schedules proves.
+        assert_eq!(bound.analytic, whole_units(bound.work.max(bound.block).max(bound.chain)), "{bound:?}");
+        assert_eq!(bound.makespan, bound.analytic.max(bound.searched), "{bound:?}");
         tight += usize::from(makespan * 100 <= bound.makespan * 130);
         aside += usize::from(bound.aside > 0);
         // A swap moves whole towers, order kept: every block above a bottom waits for it.
@@ -367,7 +368,10 @@ fn the_bound_counts_the_arms_idle_at_either_end_of_a_single_tower() {
     assert_eq!(bound.work, (32 * unit + bound.idle + 2) / 3, "{bound:?}");
     // (32 + 6) / 3 = 12.667 units, and no plan's makespan is shorter
     // than a whole 13 (its durations are whole units).
-    assert!(bound.work > bound.chain && bound.makespan == 13 * unit, "{bound:?}");
+    assert!(bound.work > bound.chain && bound.analytic == 13 * unit, "{bound:?}");
+    // The search of the schedules finds the optimum, 14 (as the reference of
+    // tests/optimum.rs does): the bound kbc prints.
+    assert!(bound.optimal && bound.makespan == 14 * unit, "{bound:?}");
 }
 
 #[test]
@@ -383,7 +387,9 @@ fn with_few_arms_a_goal_tower_waits_a_whole_cycle_every_arms_levels() {
     let bound = bound_below_plan(Rung { family: Family::Build, blocks: 4, arms: 3, seed: 1 });
     let unit = kbc::ir::stn::UNITS;
     assert_eq!(bound.chain, 12 * unit, "{bound:?}");
-    assert_eq!(bound.makespan, bound.chain, "{bound:?}");
+    assert_eq!(bound.analytic, bound.chain, "{bound:?}");
+    // And that plan of 13 is optimal: the search of the schedules finds no shorter one.
+    assert!(bound.optimal && bound.makespan == 13 * unit, "{bound:?}");
 }
 
 #[test]
@@ -409,7 +415,7 @@ fn a_block_held_over_the_one_below_it_is_held_through_every_grip_and_cycle_it_wa
     assert_eq!(bound.aside, 15 * unit, "{bound:?}");
     assert_eq!(bound.idle, 2 * unit, "{bound:?}");
     assert_eq!(bound.work, (47 * unit + 2) / 3, "{bound:?}");
-    assert_eq!(bound.makespan, 16 * unit, "{bound:?}");
+    assert_eq!(bound.analytic, 16 * unit, "{bound:?}");
 }
 
 #[test]
@@ -427,7 +433,8 @@ fn the_chain_of_a_tower_counts_where_each_block_leaves_from_for_its_last_cycle()
     // the window's bottom release gave 10. The optimum is 12 (tests/optimum.rs).
     let bound = bound_below_plan(Rung { family: Family::Build, blocks: 5, arms: 3, seed: 5 });
     let unit = kbc::ir::stn::UNITS;
-    assert_eq!((bound.chain, bound.makespan), (11 * unit, 11 * unit), "{bound:?}");
+    assert_eq!((bound.chain, bound.analytic), (11 * unit, 11 * unit), "{bound:?}");
+    assert!(bound.optimal && bound.makespan == 12 * unit, "{bound:?}");
 }
 
 #[test]

@@ -133,7 +133,9 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                     search_name(search),
                     row.result.as_ref().map_or("-".to_string(), |n| n.to_string()),
                     row.makespan.map_or("-".to_string(), |(m, _)| format_time(m)),
-                    row.lower_bound.map_or("-".to_string(), |b| format_time(b.makespan)),
+                    row.lower_bound.map_or("-".to_string(), |b| {
+                        format!("{}{}", format_time(b.makespan), if b.optimal { "*" } else { "" })
+                    }),
                     match (row.makespan, row.lower_bound) {
                         (Some((m, _)), Some(b)) if b.makespan > 0 => format!("{:.2}x", m as f64 / b.makespan as f64),
                         _ => "-".to_string(),
@@ -181,6 +183,8 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
                         "aside": b.aside as f64 / UNITS as f64,
                         "waiting": b.waiting as f64 / UNITS as f64,
                         "emptying": b.emptying as f64 / UNITS as f64,
+                        "searched": b.searched as f64 / UNITS as f64,
+                        "optimal": b.optimal,
                         "idle": b.idle as f64 / UNITS as f64,
                     })),
                     "expanded": row.expanded,
@@ -212,14 +216,23 @@ fn summary(search: SearchKind, rows: &[Row]) -> String {
     // m <= f * b, with f in hundredths and exact integers.
     let within = |hundredths: i64| pairs.iter().filter(|&&(m, b)| b > 0 && m * 100 <= b * hundredths).count();
     let sum: i64 = pairs.iter().map(|&(m, _)| m).sum();
+    // Rungs whose bound is the optimum (`*`), and those whose plan meets it (the separations
+    // of its ordered snap actions, thousandths each, aside: under half a unit more).
+    let optimal: Vec<&&Row> = solved.iter().copied().filter(|r| r.lower_bound.is_some_and(|b| b.optimal)).collect();
+    let met = optimal
+        .iter()
+        .filter(|r| matches!((r.makespan, r.lower_bound), (Some((m, _)), Some(b)) if 2 * (m - b.makespan) < UNITS))
+        .count();
     format!(
         "{} search: {} of {} rungs solved{slowest}; makespan within 1.3x of the bound on {}, within 1.15x on {}; \
-         sum of makespans {}",
+         the bound is the optimum (*) on {}, met on {}; sum of makespans {}",
         search_name(search),
         solved.len(),
         rows.len(),
         within(130),
         within(115),
+        optimal.len(),
+        met,
         format_time(sum)
     )
 }

@@ -73,8 +73,9 @@ enum Command {
     /// blocks and 10 arms, and grid KBs in other authors' style from 6 to 20 blocks) with the
     /// heuristic search and the paper's search, each under a
     /// time budget, validates every plan, and prints plan length, makespan, states expanded
-    /// (by every search `kbc plan` runs for the rung), the makespan's lower bound and their
-    /// ratio, time and the paper/heuristic time ratio.
+    /// (by every search `kbc plan` runs for the rung), the makespan's lower bound (marked `*`
+    /// where a search of the rung's schedules proved it the optimum) and their ratio, time and
+    /// the paper/heuristic time ratio.
     /// `--write DIR` writes the goal files instead.
     Bench(bench::BenchArgs),
     /// Compile a problem into behaviour-tree bytecode for the VM.
