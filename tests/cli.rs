@@ -996,3 +996,23 @@ fn a_run_whose_actions_take_terms_of_every_kind_checks_its_timeline() {
         stdout(&run)
     );
 }
+
+#[test]
+fn a_test_with_arguments_is_chosen_by_its_head() {
+    // `test(1) :- go(...)` and `test(2) :- go(...)`: two problems, named as their heads are
+    // written, each planned for its own goal.
+    let kb = "test(1) :- go([available(a1), ontable(b1, 1, 1), clear(b1)], [ontable(b1, 2, 1)]).\n\
+              test(2) :- go([available(a1), ontable(b1, 1, 1), clear(b1)], [ontable(b1, 3, 3)]).\n";
+    let path = scratch_file("tests-with-arguments", "tests.pl", kb);
+    let path = path.to_str().expect("UTF-8 path");
+    for (problem, target) in [("test(1)", "2 1"), ("test(2)", "3 3")] {
+        let out = kbc(&["plan", "-q", "--problem", problem, path]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let plan = stdout(&out);
+        assert!(plan.contains(&format!("move_block_start(a1, b1, 1, 1, {})", target.replace(' ', ", "))), "{plan}");
+    }
+    // Without `--problem`, the error lists both by those names.
+    let out = kbc(&["plan", "-q", path]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("the problems are `test(1)`, `test(2)`"), "{}", stderr(&out));
+}

@@ -832,9 +832,21 @@ impl Lowerer<'_> {
     // ---- problems -------------------------------------------------------------------------
 
     fn go_problem(&mut self, head: &ast::Term, test: &TestBody<'_>, span: Span) {
-        let Some((name, _)) = head.callable() else {
+        let Some((functor, _)) = head.callable() else {
             self.check_definable_head(head);
             return;
+        };
+        // `test(1) :- go(...)`, `test(2) :- go(...)`: Prolog runs `?- test(1).` and
+        // `?- test(2).` apart, so each head with arguments and no variable in them is a problem
+        // of its own, named as the head is written (`--problem 'test(1)'`). A head with
+        // variables (`test1(Plan, Times)`) is named by its functor.
+        let mut open = false;
+        head.for_each_var(&mut |_, _| open = true);
+        let name = if head.args().is_empty() || open {
+            functor
+        } else {
+            let text = crate::syntax::printer::term_to_string(&*self.interner, head);
+            self.interner.intern(&text)
         };
         let go = test.go;
         let args = go.args();

@@ -702,7 +702,8 @@ impl Exporter<'_> {
         let actions = expanded;
 
         let mut domain = String::new();
-        let domain_name = format!("kbc-{problem_name}");
+        // (A problem's name may be any atom, `'test 1'` or `test(1)`: written as a PDDL name.)
+        let domain_name = self.object_names.fresh(&format!("kbc-{problem_name}"));
         let mut requirements = vec![":durative-actions"];
         if self.options.negative_preconditions && task.schemas.iter().any(|s| !s.invalid.is_empty()) {
             requirements.push(":negative-preconditions");
