@@ -440,9 +440,9 @@ pub const SEARCH_LIMIT: usize = 300_000;
 /// The most blocks of a rung the search of [`LowerBound::searched`] runs on. Within
 /// [`SEARCH_LIMIT`] it finds the optimum of most rungs of up to six blocks; what it proves
 /// beyond was more than the analytic bound on two 8-block rungs of seeds 1-3 (build_b08_a3_s1
-/// 19 against 18, build_b08_a3_s3 17 against 15) and on none of 10 to 30 blocks (measured
-/// with `kbc bench`); on the larger rungs each of its states is large and each has many
-/// successors, for nothing.
+/// 19 against 18, build_b08_a3_s3 17 against 15) and on none of 10 to 100 blocks of seed 1
+/// or of 10 to 15 blocks of seeds 2 and 3 (measured with `kbc bench`), where its states are
+/// large and have many successors, for nothing.
 pub const SEARCH_BLOCKS: usize = 8;
 
 /// What [`Rung::waiting`] proves of the blocks lifted before a block below them moves.
