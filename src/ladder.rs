@@ -116,7 +116,9 @@ pub fn standard() -> Vec<Rung> {
     rungs
 }
 
-/// A tower: a cell and its blocks, bottom first.
+/// A duration's least and greatest values in STN time (`Session::duration_bounds`).
+type DurationBounds = (i64, Option<i64>);
+
 /// Where each block stands: its cell, and the block it is on (`None`: the table).
 type Places = std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)>;
 
@@ -332,8 +334,9 @@ action(move_end(A, B, X1, Y1, X2, Y2),
 duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1), Max is 2 * D + 2.
 ";
 
-/// A lower bound on the makespan of every plan of a rung, in STN time, and the three
-/// arguments it is the largest of (for a grid rung: the work and the longest block's move;
+/// A lower bound on the makespan of every plan of a rung, in STN time: the largest of three
+/// arguments (`analytic`) and, on small rungs, of a search of the rung's schedules
+/// (`searched`, see `ladder/exhaustive.rs`). The three arguments (for a grid rung: the work and the longest block's move;
 /// no chain; the work counts, as `aside`, one stop on a third cell for each cycle of blocks
 /// that must take each other's cells: the first of a cycle to move finds its goal cell
 /// taken). Each uses the least durations the KB's `duration/3` gives
@@ -388,7 +391,7 @@ duration(move(_, _, X1, Y1, X2, Y2), D, Max) :- D is abs(X2 - X1) + abs(Y2 - Y1)
 ///   least of this over the pairs (with each block's cheapest cell to leave from).
 ///
 /// When every duration the bound asks the KB for, least and greatest, is a whole number of
-/// time units (as in `std/blocks.pl` and the grid KBs), `makespan` is rounded up to a whole
+/// time units (as in `std/blocks.pl` and the grid KBs), `analytic` is rounded up to a whole
 /// unit. The arguments above never need one happening strictly after another, so they hold
 /// as well with no separation (ε) between happenings. Without it, the earliest schedule of a
 /// plan's order (the shortest makespan of that order) is a longest path over the durations'
@@ -433,8 +436,9 @@ pub struct LowerBound {
     pub optimal: bool,
 }
 
-/// The states the search of [`LowerBound::searched`] stores at most on one rung (about 30 MB
-/// on an 8-block rung).
+/// The states the search of [`LowerBound::searched`] stores at most on one rung (about 80 MB
+/// on an 8-block rung: `kbc bench`'s peak on the 8-block rungs of seed 1 was 94-97 MB, where
+/// `kbc plan` of the same rungs peaks at 19 MB).
 pub const SEARCH_LIMIT: usize = 300_000;
 
 /// The most blocks of a rung the search of [`LowerBound::searched`] runs on. Within
@@ -481,13 +485,14 @@ impl Rung {
         // and greatest) is a whole number of time units (see `LowerBound`: the bound is then
         // rounded up to one).
         let whole = std::cell::Cell::new(true);
-        let least = |session: &mut Session, instance: &Term| -> i64 {
+        let bounds = |session: &mut Session, instance: &Term| -> DurationBounds {
             let (min, max) = session.duration_bounds(0, instance);
             if min % UNITS != 0 || max.is_some_and(|max| max % UNITS != 0) {
                 whole.set(false);
             }
-            min
+            (min, max)
         };
+        let least = |session: &mut Session, instance: &Term| -> i64 { bounds(session, instance).0 };
         let rounded = |bound: i64| if whole.get() { (bound + UNITS - 1) / UNITS * UNITS } else { bound };
         if self.family == Family::Grid {
             // Each block not on its goal cell moves at least once; no block stands on another,
@@ -547,12 +552,16 @@ impl Rung {
         }
         let grip = Term::Compound(session.intern("grip"), Args::from([arm.clone(), block.clone()]));
         let release = Term::Compound(session.intern("release"), Args::from([arm.clone(), block.clone()]));
-        let (grip, release) = (least(session, &grip), least(session, &release));
+        let (grip_bounds, release_bounds) = (bounds(session, &grip), bounds(session, &release));
+        let (grip, release) = (grip_bounds.0, release_bounds.0);
         let move_symbol = session.intern("move_block");
-        let moving = |session: &mut Session, from: (usize, usize), to: (usize, usize)| -> i64 {
+        let move_bounds = |session: &mut Session, from: (usize, usize), to: (usize, usize)| {
             let cell = |v: usize| Term::Int(v as i64);
             let args = [arm.clone(), block.clone(), cell(from.0), cell(from.1), cell(to.0), cell(to.1)];
-            grip + least(session, &Term::Compound(move_symbol, Args::from(args))) + release
+            bounds(session, &Term::Compound(move_symbol, Args::from(args)))
+        };
+        let moving = |session: &mut Session, from: (usize, usize), to: (usize, usize)| -> i64 {
+            grip + move_bounds(session, from, to).0 + release
         };
         // Where each block is, and what it stands on (None: the table).
         let place = |towers: &[Tower]| -> std::collections::BTreeMap<usize, ((usize, usize), Option<usize>)> {
@@ -576,11 +585,14 @@ impl Rung {
         // durations and every stop between them a buffer cell: shortest paths whose
         // intermediate cells are buffers (Floyd-Warshall over those alone), rather than
         // assuming a neighbour is the cheapest cell or that a block may stop anywhere.
+        // (Each move's bounds kept too, from cell i to cell j at `i * n + j`, for the search.)
         let mut path = vec![i64::MAX; n * n];
+        let mut moves = vec![(0, None); n * n];
         for (i, &a) in cells.iter().enumerate() {
             for (j, &b) in cells.iter().enumerate() {
                 if i != j {
-                    path[i * n + j] = moving(session, a, b);
+                    moves[i * n + j] = move_bounds(session, a, b);
+                    path[i * n + j] = grip + moves[i * n + j].0 + release;
                 }
             }
         }
@@ -748,7 +760,8 @@ impl Rung {
             chain = chain.max(*ends.last().expect("the first block's"));
         }
         let searched = if whole.get() && from.len() <= SEARCH_BLOCKS {
-            Self::searched(session, (&cells, &is_buffer, &path), (&from, &to), self.arms)
+            let durations = (grip_bounds, release_bounds, moves.as_slice());
+            Self::searched(durations, (&cells, &is_buffer, &path), (&from, &to), self.arms)
         } else {
             None
         };
@@ -774,36 +787,21 @@ impl Rung {
     }
 
     /// [`LowerBound::searched`]: the search of `ladder/exhaustive.rs` on these places, with
-    /// the KB's durations (whole units, as the caller checked) and `path`, the least work
-    /// between two cells through buffer cells. None when the goal cannot be reached or the
-    /// rung is too large to index with bytes.
+    /// the KB's durations (least and greatest, in STN time and whole units, as the caller
+    /// checked: a grip, a release, and the move between each two cells) and `path`, the least
+    /// work between two cells through buffer cells. None when the goal cannot be reached or
+    /// the rung is too large to index with bytes.
     fn searched(
-        session: &mut Session,
+        (grip, release, moves): (DurationBounds, DurationBounds, &[DurationBounds]),
         (cells, is_buffer, path): (&[(usize, usize)], &[bool], &[i64]),
         (from, to): (&Places, &Places),
         arms: usize,
     ) -> Option<exhaustive::Searched> {
-        use crate::ir::hir::{Args, Term};
-        use exhaustive::{Span, Spot};
+        use exhaustive::{Bounds, Spot};
         if cells.len() > u8::MAX as usize || from.len() > u8::MAX as usize {
             return None;
         }
-        let (arm, block) = (Term::Atom(session.intern("a1")), Term::Atom(session.intern("b1")));
-        let span = |session: &mut Session, name: &str, extra: &[Term]| {
-            let mut args = vec![arm.clone(), block.clone()];
-            args.extend_from_slice(extra);
-            let instance = Term::Compound(session.intern(name), Args::from(args));
-            let (least, most) = session.duration_bounds(0, &instance);
-            Span { least: least / UNITS, most: most.map(|m| m / UNITS) }
-        };
-        let (grip, release) = (span(session, "grip", &[]), span(session, "release", &[]));
-        let mut moves = Vec::with_capacity(cells.len() * cells.len());
-        for a in cells {
-            for b in cells {
-                let at = |c: usize| Term::Int(c as i64);
-                moves.push(span(session, "move_block", &[at(a.0), at(a.1), at(b.0), at(b.1)]));
-            }
-        }
+        let whole = |(least, most): DurationBounds| Bounds { least: least / UNITS, most: most.map(|m| m / UNITS) };
         let blocks: Vec<usize> = from.keys().copied().collect();
         let index = |b: usize| blocks.iter().position(|&x| x == b).expect("a block of the rung") as u8;
         let cell = |c: (usize, usize)| cells.iter().position(|&x| x == c).expect("a cell of the table") as u8;
@@ -822,9 +820,9 @@ impl Rung {
             start: spots(from),
             goal: spots(to),
             buffer: is_buffer.to_vec(),
-            grip,
-            release,
-            moves,
+            grip: whole(grip),
+            release: whole(release),
+            moves: moves.iter().copied().map(whole).collect(),
             path: path.iter().map(|&w| if w == i64::MAX { w } else { w / UNITS }).collect(),
         };
         problem.search(SEARCH_LIMIT)

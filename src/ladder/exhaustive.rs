@@ -91,12 +91,12 @@ struct State {
 
 /// A durative action's least and greatest durations, in whole time units.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Span {
+pub(super) struct Bounds {
     pub least: i64,
     pub most: Option<i64>,
 }
 
-impl Span {
+impl Bounds {
     /// How far `done` counts: past the least duration only a greatest one matters.
     fn cap(self) -> i64 {
         self.most.unwrap_or(self.least)
@@ -112,10 +112,10 @@ pub(super) struct Problem {
     pub goal: Vec<Spot>,
     /// Cells the goal leaves empty.
     pub buffer: Vec<bool>,
-    pub grip: Span,
-    pub release: Span,
+    pub grip: Bounds,
+    pub release: Bounds,
     /// The move from cell i to cell j at `i * cells + j`.
-    pub moves: Vec<Span>,
+    pub moves: Vec<Bounds>,
     /// The least arm time from one cell to another: whole cycles (grip, move, release), every
     /// stop between a buffer cell; `i64::MAX` when there is no way.
     pub path: Vec<i64>,
@@ -191,7 +191,7 @@ impl Problem {
                         }
                     }
                 }
-                Job::Carry { block, from, to, done } if i64::from(done) >= self.span(from, to).least => {
+                Job::Carry { block, from, to, done } if i64::from(done) >= self.move_bounds(from, to).least => {
                     let wanted = self.goal[block as usize];
                     let spot = match self.top(s, to) {
                         None if wanted == Spot::Table(to) || self.buffer[to as usize] => Some(Spot::Table(to)),
@@ -214,7 +214,7 @@ impl Problem {
         }
     }
 
-    fn span(&self, from: u8, to: u8) -> Span {
+    fn move_bounds(&self, from: u8, to: u8) -> Bounds {
         self.moves[from as usize * self.cells + to as usize]
     }
 
@@ -224,21 +224,18 @@ impl Problem {
         let mut next = s.clone();
         let mut short = false;
         for job in &mut next.jobs {
-            let (done, span) = match job {
+            let (done, bounds) = match job {
                 Job::Grip { done, .. } => (done, self.grip),
                 Job::Release { done, .. } => (done, self.release),
-                Job::Carry { from, to, done, .. } => {
-                    let span = self.span(*from, *to);
-                    (done, span)
-                }
+                Job::Carry { from, to, done, .. } => (done, self.move_bounds(*from, *to)),
                 _ => continue,
             };
             let d = i64::from(*done);
-            if span.most.is_some_and(|most| d >= most) {
+            if bounds.most.is_some_and(|most| d >= most) {
                 return None;
             }
-            short |= d < span.least;
-            if d < span.cap() {
+            short |= d < bounds.least;
+            if d < bounds.cap() {
                 *done += 1;
             }
         }
@@ -277,7 +274,7 @@ impl Problem {
                 Job::Carry { block, from, to, done } => {
                     let target = self.goal[block as usize].cell().expect("a goal cell");
                     let after = if to == target { 0 } else { self.path[to as usize * self.cells + target as usize] };
-                    let moving = (self.span(from, to).least - i64::from(done)).max(0);
+                    let moving = (self.move_bounds(from, to).least - i64::from(done)).max(0);
                     left[block as usize] = (moving + self.release.least).saturating_add(after);
                 }
                 Job::Down { block } => left[block as usize] += self.release.least,
