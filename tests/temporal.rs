@@ -510,8 +510,20 @@ fn reassigning_needs_a_renewable_resource_and_every_unit_in_a_job() {
             .is_empty(),
         "with `resources(available(_))` the pass has candidates"
     );
+    // Without `resources(available(_))`, its actions imply it (grip_start deletes the
+    // `available(A)` it needs, release_end adds it): the same jobs.
     let mut kb = session.kb().clone();
     kb.resources.clear();
+    let steps = |kb: &kbc::ir::hir::Kb| -> Vec<Vec<usize>> {
+        passes::reassign::jobs(kb, &plan).expect("jobs").steps().map(<[usize]>::to_vec).collect()
+    };
+    assert_eq!(steps(&kb), steps(session.kb()));
+    // A start that deletes `available(A)` without needing it does not take a unit: nothing
+    // is implied, and the pass has nothing to do.
+    let available = session.interner().get("available");
+    for action in &mut kb.actions {
+        action.valid.retain(|v| v.term.callable().map(|(name, _)| name) != available);
+    }
     assert!(
         passes::reassign::candidates(&kb, &plan, &timed.pop, &timed.stn, passes::reassign::Rules::Fixed).is_empty()
     );
@@ -558,6 +570,60 @@ fn a_static_resource_template_makes_jobs_of_its_units_free_facts() {
     assert!(!session.has_errors(), "{:?}", common::messages(session.diagnostics()));
     let plan = search(&mut session, 0);
     assert!(passes::reassign::jobs(session.kb(), &plan).is_none());
+}
+
+/// A pick-and-place KB in the style of an LLM pipeline, with no `resources/1`: agents
+/// (`free/1`) pick a box from a cell and place it on a free one, as two durative actions. Box
+/// `k` stands on cell `k` of a 4 x 3 grid and goes to cell `(k * 5) % 12`, so boxes queue for
+/// each other's cells.
+fn pick_and_place(declared: bool) -> String {
+    let cells: Vec<(usize, usize)> = (1..=4).flat_map(|x| (1..=3).map(move |y| (x, y))).collect();
+    let mut text = String::from(
+        "agent(r1). agent(r2). agent(r3).
+action(pick_start(R, B, X, Y), [free(R), at(B, X, Y)], [], [], [agent(R)],
+    [del(free(R)), del(at(B, X, Y)), add(picking(R, B, X, Y))]).
+action(pick_end(R, B, X, Y), [picking(R, B, X, Y)], [], [], [],
+    [del(picking(R, B, X, Y)), add(holding(R, B)), add(empty(X, Y))]).
+action(place_start(R, B, X, Y), [holding(R, B), empty(X, Y)], [], [], [],
+    [del(holding(R, B)), del(empty(X, Y)), add(placing(R, B, X, Y))]).
+action(place_end(R, B, X, Y), [placing(R, B, X, Y)], [], [], [],
+    [del(placing(R, B, X, Y)), add(at(B, X, Y)), add(free(R))]).
+duration(pick(_, _, _, _), 2, 3).
+duration(place(_, _, _, _), 2, 3).
+",
+    );
+    if declared {
+        text.push_str("resources(free(_)).\n");
+    }
+    let boxes = 9;
+    let mut init: Vec<String> = (1..=3).map(|r| format!("free(r{r})")).collect();
+    init.extend((0..boxes).map(|k| format!("at(box{k}, {}, {})", cells[k].0, cells[k].1)));
+    init.extend(cells[boxes..].iter().map(|(x, y)| format!("empty({x}, {y})")));
+    let goal: Vec<String> =
+        (0..boxes).map(|k| format!("at(box{k}, {}, {})", cells[(k * 5) % 12].0, cells[(k * 5) % 12].1)).collect();
+    text.push_str(&format!("move_boxes :- go([{}], [{}]).\n", init.join(", "), goal.join(", ")));
+    text
+}
+
+/// A KB that declares no resource still has its plans rearranged, through the resource its
+/// actions imply (`free/1`): as short as with `resources(free(_))` declared, shorter than the
+/// search's plan, and valid.
+#[test]
+fn a_kb_without_resources_is_reassigned_through_the_resource_its_actions_imply() {
+    let settings = kbc::session::PlanSettings::default();
+    let mut implied = Session::from_text("implied.pl", pick_and_place(false));
+    assert!(!implied.has_errors(), "{:?}", common::messages(implied.diagnostics()));
+    let plan = search(&mut implied, 0);
+    let jobs = passes::reassign::jobs(implied.kb(), &plan).expect("jobs through free/1");
+    assert_eq!(jobs.steps().count() * 4, plan.steps.len(), "a job per box: pick and place");
+    let (makespan, origin) = planned_makespan(&mut implied, "implied", &settings);
+    assert!(origin.contains("jobs reassigned"), "{origin}");
+    let unassigned = kbc::session::PlanSettings { reassign: false, ..settings.clone() };
+    let (searched, _) = planned_makespan(&mut implied, "no reassign", &unassigned);
+    assert!(makespan < searched, "{makespan} against the search's {searched}");
+    let mut declared = Session::from_text("declared.pl", pick_and_place(true));
+    let (with_declared, _) = planned_makespan(&mut declared, "declared", &settings);
+    assert_eq!(makespan, with_declared);
 }
 
 /// The number of steps of `plan` whose names start with `prefix`.

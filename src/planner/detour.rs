@@ -973,7 +973,7 @@ pub fn merges(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    jobs: &crate::passes::reassign::Jobs<'_>,
+    jobs: &crate::passes::reassign::Jobs,
 ) -> Result<Vec<Merge>, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
@@ -1027,7 +1027,7 @@ pub fn merge(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    jobs: &crate::passes::reassign::Jobs<'_>,
+    jobs: &crate::passes::reassign::Jobs,
     merges: &[Merge],
 ) -> Result<Rewritten, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
@@ -1120,7 +1120,7 @@ pub fn shortcuts(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    jobs: &crate::passes::reassign::Jobs<'_>,
+    jobs: &crate::passes::reassign::Jobs,
 ) -> Result<Vec<Merge>, Failure> {
     let (rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
     let leaving = rewriter.leaving(task, &path);
@@ -1150,7 +1150,7 @@ pub fn shortcut(
     successors: &mut Successors<'_>,
     task: &mut Task,
     plan: &Plan,
-    jobs: &crate::passes::reassign::Jobs<'_>,
+    jobs: &crate::passes::reassign::Jobs,
     shortcuts: &[Merge],
 ) -> Result<Rewritten, Failure> {
     let (mut rewriter, path) = Rewriter::for_plan(successors, task, plan)?;
@@ -1232,7 +1232,7 @@ pub fn shortcut(
 /// The state of a [`merge`] replay.
 struct MergeReplay<'s, 'p, 'a> {
     rewriter: Rewriter<'s, 'p>,
-    jobs: &'a crate::passes::reassign::Jobs<'a>,
+    jobs: &'a crate::passes::reassign::Jobs,
     merges: &'a [Merge],
     path: &'a [Applicable],
     /// The steps the merges leave out.
@@ -1567,7 +1567,7 @@ impl<'s, 'p> Rewriter<'s, 'p> {
 
     /// Whether starts `first` and `second` are in two different jobs, each its job's only step
     /// between the start and its end.
-    fn in_two_jobs(&self, jobs: &crate::passes::reassign::Jobs<'_>, first: usize, second: usize) -> bool {
+    fn in_two_jobs(&self, jobs: &crate::passes::reassign::Jobs, first: usize, second: usize) -> bool {
         let alone = |start: usize| -> Option<usize> {
             let end = self.end_index[start]?;
             let job = jobs.job_of(start)?;

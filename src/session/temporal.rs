@@ -695,7 +695,7 @@ fn merges(
 /// Of `pairs` (merges or shortcuts), in their order, each that shares no job with one taken
 /// before it.
 fn sharing_no_job(
-    jobs: &crate::passes::reassign::Jobs<'_>,
+    jobs: &crate::passes::reassign::Jobs,
     pairs: impl IntoIterator<Item = crate::planner::detour::Merge>,
 ) -> Vec<crate::planner::detour::Merge> {
     let mut used: Vec<usize> = Vec::new();
