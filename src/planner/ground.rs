@@ -264,6 +264,8 @@ struct BucketQueue {
     active: bool,
     /// Facts pushed at cost `current` while it is being popped.
     late: BinaryHeap<Reverse<u32>>,
+    /// The radix sort's second buffer ([`radix_sort`]).
+    scratch: Vec<u32>,
     overflow: BinaryHeap<Reverse<(u32, u32)>>,
 }
 
@@ -316,7 +318,11 @@ impl BucketQueue {
             }
             std::mem::swap(&mut self.sorted, &mut self.buckets[self.current]);
             self.buckets[self.current].clear();
-            self.sorted.sort_unstable();
+            if self.sorted.len() < RADIX_FROM {
+                self.sorted.sort_unstable();
+            } else {
+                radix_sort(&mut self.sorted, &mut self.scratch);
+            }
             self.cursor = 0;
             self.active = true;
         }
@@ -333,6 +339,45 @@ impl BucketQueue {
         self.active = false;
         self.late.clear();
         self.overflow.clear();
+    }
+}
+
+/// Buckets of [`BucketQueue`] with at least so many facts are sorted by [`radix_sort`], smaller
+/// ones by comparison. (A bucket can hold most of a large task's facts: every `picking(R, B, X,
+/// Y)` of a 100-box, 10-agent pick-and-place KB has one cost; perf put 13% of `kbc plan`'s
+/// samples there in `sort_unstable`.)
+const RADIX_FROM: usize = 512;
+
+/// Sorts `values` ascending, 11 bits at a time from the lowest (a stable counting sort
+/// each, as many passes as the largest value has digits: two for a task of up to four
+/// million facts), with `scratch` as the other buffer. The same order as `sort_unstable`, in
+/// linear time.
+fn radix_sort(values: &mut Vec<u32>, scratch: &mut Vec<u32>) {
+    const BITS: u32 = 11;
+    const DIGITS: usize = 1 << BITS;
+    let largest = values.iter().copied().max().unwrap_or(0);
+    scratch.clear();
+    scratch.resize(values.len(), 0);
+    let mut shift = 0;
+    while shift < u32::BITS && (shift == 0 || largest >> shift > 0) {
+        let digit = |v: u32| ((v >> shift) as usize) & (DIGITS - 1);
+        let mut counts = [0usize; DIGITS];
+        for &v in values.iter() {
+            counts[digit(v)] += 1;
+        }
+        let mut at = 0;
+        for count in &mut counts {
+            let n = *count;
+            *count = at;
+            at += n;
+        }
+        for &v in values.iter() {
+            let d = digit(v);
+            scratch[counts[d]] = v;
+            counts[d] += 1;
+        }
+        std::mem::swap(values, scratch);
+        shift += BITS;
     }
 }
 
@@ -983,7 +1028,7 @@ mod tests {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
 
-    use super::{Auxiliary, BucketQueue, GroundTask, NONE, RecordedAction};
+    use super::{Auxiliary, BucketQueue, GroundTask, NONE, RecordedAction, radix_sort};
 
     /// An evaluation through groups of actions that share their first preconditions gives
     /// every node the cost and the supporter that the plain generalised Dijkstra gives it,
@@ -1092,19 +1137,24 @@ mod tests {
 
     /// The bucket queue pops exactly what one binary heap of `(cost, fact)` pops, for pushes
     /// that never fall below the last cost popped (as the evaluation's are), costs past the
-    /// buckets included.
+    /// buckets included, and buckets large enough for the radix sort (every tenth round).
     #[test]
     fn the_bucket_queue_pops_in_the_order_of_a_binary_heap() {
         let mut random = kbvm::rng::Rng::new(7);
+        let mut radix_sorted = 0;
         for round in 0..200 {
             let mut buckets = BucketQueue::default();
             let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
             let high = if round % 2 == 0 { 40 } else { BucketQueue::BUCKETS as u32 + 40 };
+            let (pushes, facts) = if round % 10 == 0 { (20_000, 3_000_000) } else { (300, 50) };
             let mut floor = 0u32;
-            for _ in 0..300 {
+            for _ in 0..pushes {
+                if buckets.sorted.len() >= super::RADIX_FROM {
+                    radix_sorted += 1;
+                }
                 if random.below(3) > 0 {
                     let cost = floor + random.below(8) as u32 * if random.below(4) == 0 { high / 8 } else { 1 };
-                    let fact = random.below(50) as u32;
+                    let fact = random.below(facts) as u32;
                     buckets.push(cost, fact);
                     heap.push(Reverse((cost, fact)));
                 } else {
@@ -1123,6 +1173,22 @@ mod tests {
             assert_eq!(buckets.pop(), None);
             buckets.clear();
             assert_eq!(buckets.pop(), None);
+        }
+        assert!(radix_sorted > 0, "no bucket was large enough for the radix sort");
+    }
+
+    /// The radix sort gives `sort_unstable`'s order, on values of one, two and three digits,
+    /// with repeats.
+    #[test]
+    fn radix_sort_sorts_as_sort_unstable() {
+        let mut rng = kbvm::rng::Rng::new(7);
+        for (len, bound) in [(0usize, 10u64), (1, 10), (600, 50), (5000, 3_000_000), (3000, u64::from(u32::MAX))] {
+            let values: Vec<u32> = (0..len).map(|_| (rng.next_u64() % bound) as u32).collect();
+            let (mut radix, mut scratch) = (values.clone(), Vec::new());
+            radix_sort(&mut radix, &mut scratch);
+            let mut expected = values;
+            expected.sort_unstable();
+            assert_eq!(radix, expected, "{len} values below {bound}");
         }
     }
 }
