@@ -391,7 +391,7 @@ fn quick_fixes_apply_and_the_file_is_rechecked() {
         ("operator", format!("{clean}differ(X, Y) :- X != Y.\n"), "E0107", "replace `!=` with `\\=`"),
         ("period", clean.replace("1, 2).", "1, 2)"), "E0102", "add `.`"),
         ("comma", clean.replace("ontable(B), clear(B)]", "ontable(B) clear(B)]"), "E0109", "add `,`"),
-        ("end", without_end, "E0204", "declare `pick_end(A, B)`"),
+        ("end", without_end, "W0019", "declare `pick_end(A, B)`"),
     ];
     for (name, text, code, title) in cases {
         let dir = scratch(&format!("fix-{name}"));

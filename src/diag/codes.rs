@@ -101,7 +101,7 @@ codes! {
     ACTION_ARITY = "E0201": "`action` or `ll_action` with the wrong number of arguments";
     SLOT_NOT_LIST = "E0202": "an action slot that is not a list";
     BAD_EFFECT = "E0203": "an effect other than `add(L)` or `del(L)`";
-    UNPAIRED_DURATIVE = "E0204": "a `_start` without its `_end`, or the reverse";
+    UNPAIRED_DURATIVE = "E0204": "an arm-level `_start` without its `_end`, or the reverse";
     DURATIVE_ARITY = "E0205": "`_start` and `_end` with different arities";
     DUPLICATE_ACTION = "E0206": "duplicate action schema";
     UNKNOWN_MAPPED_ACTION = "E0207": "a mapping to an unknown action";
@@ -172,6 +172,7 @@ codes! {
     OUTPUT_NOT_PRINTED = "W0016": "output that kbc does not print";
     GOALS_AFTER_GO = "W0017": "goals of a test after its `go` call, which kbc does not run";
     EMPTY_DURATION = "W0018": "a `duration/3` whose least duration is above its greatest";
+    UNPAIRED_SNAP = "W0019": "a `_start` without an `_end`, or the reverse, planned as an instantaneous action";
 }
 
 /// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older

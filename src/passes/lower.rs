@@ -1085,7 +1085,11 @@ impl Lowerer<'_> {
             let other = if snap == Snap::Start { Snap::End } else { Snap::Start };
             let counterparts: Vec<usize> =
                 snaps.iter().filter(|s| s.0 == level && s.1 == base && s.2 == other).map(|s| s.3).collect();
-            if counterparts.is_empty() || counterparts.contains(&arity) {
+            if counterparts.is_empty() {
+                self.unpair_alone(index, other);
+                continue;
+            }
+            if counterparts.contains(&arity) {
                 continue;
             }
             let action = &mut self.kb.actions[index];
@@ -1111,6 +1115,48 @@ impl Lowerer<'_> {
                 .with_help("give the start and the end the same arguments to make them one durative action"),
             );
         }
+    }
+
+    /// A high-level `X_start` with no `X_end` of any arity, or the reverse (`other` is the
+    /// snap missing): the paper's planner applies it as any other action, so kbc plans it as an
+    /// instantaneous action under its full name, with warning W0019 and, for a start, the end
+    /// it may have meant as a fix. (Arm-level ones keep error E0204, see `check`.)
+    fn unpair_alone(&mut self, index: usize, other: Snap) {
+        let action = &mut self.kb.actions[index];
+        let base = action.base;
+        action.snap = Snap::Instant;
+        action.base = action.name.name();
+        let action = &self.kb.actions[index];
+        let own = self.interner.resolve(action.name.name()).to_string();
+        let base_text = self.interner.resolve(base).to_string();
+        let note = format!(
+            "kbc plans `{own}` as an instantaneous action, as the paper's planner applies it: the schedule gives it no \
+             duration, and `duration({base_text}(...), ...)` does not apply to it"
+        );
+        let diagnostic = if other == Snap::End {
+            let end_name = crate::ir::hir::term_to_string(self.interner, &action.name.term, &action.vars).replacen(
+                &format!("{base_text}_start"),
+                &format!("{base_text}_end"),
+                1,
+            );
+            let skeleton = format!("\n\naction({end_name},\n    [], [], [], [],\n    []).");
+            Diagnostic::warning(codes::UNPAIRED_SNAP, format!("durative action `{base_text}` has a start but no end"))
+                .primary(action.name.name_span, format!("`{base_text}_start` declared here"))
+                .with_note(note)
+                .with_fix(format!("declare `{end_name}`"), Span::point(action.span.file, action.span.end), skeleton)
+                .with_help(format!(
+                    "declare `{end_name}` to make `{base_text}` durative, or rename the action without `_start`"
+                ))
+        } else {
+            Diagnostic::warning(codes::UNPAIRED_SNAP, format!("durative action `{base_text}` has an end but no start"))
+                .primary(action.name.name_span, format!("`{base_text}_end` declared here"))
+                .with_note(note)
+                .with_help(format!(
+                    "declare `{base_text}_start` with the same arguments to make `{base_text}` durative, or rename the \
+                     action without `_end`"
+                ))
+        };
+        self.diags.push(diagnostic);
     }
 
     fn finish_init_goal_states(&mut self) {
