@@ -577,6 +577,11 @@ fn a_static_resource_template_makes_jobs_of_its_units_free_facts() {
 /// `k` stands on cell `k` of a 4 x 3 grid and goes to cell `(k * 5) % 12`, so boxes queue for
 /// each other's cells.
 fn pick_and_place(declared: bool) -> String {
+    pick_and_place_timed(declared, "duration(pick(_, _, _, _), 2, 3).")
+}
+
+/// [`pick_and_place`] with `pick` durations of its own.
+fn pick_and_place_timed(declared: bool, pick: &str) -> String {
     let cells: Vec<(usize, usize)> = (1..=4).flat_map(|x| (1..=3).map(move |y| (x, y))).collect();
     let mut text = String::from(
         "agent(r1). agent(r2). agent(r3).
@@ -588,10 +593,11 @@ action(place_start(R, B, X, Y), [holding(R, B), empty(X, Y)], [], [], [],
     [del(holding(R, B)), del(empty(X, Y)), add(placing(R, B, X, Y))]).
 action(place_end(R, B, X, Y), [placing(R, B, X, Y)], [], [], [],
     [del(placing(R, B, X, Y)), add(at(B, X, Y)), add(free(R))]).
-duration(pick(_, _, _, _), 2, 3).
 duration(place(_, _, _, _), 2, 3).
 ",
     );
+    text.push_str(pick);
+    text.push('\n');
     if declared {
         text.push_str("resources(free(_)).\n");
     }
@@ -607,12 +613,16 @@ duration(place(_, _, _, _), 2, 3).
 
 /// A KB that declares no resource still has its plans rearranged, through the resource its
 /// actions imply (`free/1`): as short as with `resources(free(_))` declared, shorter than the
-/// search's plan, and valid.
+/// search's plan, and valid. Its agents are alike in the initial state, so the search treats
+/// them as one resource too; agents that the durations tell apart are kept apart there, and
+/// their plans are still rearranged.
 #[test]
 fn a_kb_without_resources_is_reassigned_through_the_resource_its_actions_imply() {
     let settings = kbc::session::PlanSettings::default();
+    let units_in_search = |session: &mut Session| session.task(0).schemas.iter().any(|s| !s.resource_vars.is_empty());
     let mut implied = Session::from_text("implied.pl", pick_and_place(false));
     assert!(!implied.has_errors(), "{:?}", common::messages(implied.diagnostics()));
+    assert!(units_in_search(&mut implied), "the agents are alike: one resource for the search");
     let plan = search(&mut implied, 0);
     let jobs = passes::reassign::jobs(implied.kb(), &plan).expect("jobs through free/1");
     assert_eq!(jobs.steps().count() * 4, plan.steps.len(), "a job per box: pick and place");
@@ -624,6 +634,13 @@ fn a_kb_without_resources_is_reassigned_through_the_resource_its_actions_imply()
     let mut declared = Session::from_text("declared.pl", pick_and_place(true));
     let (with_declared, _) = planned_makespan(&mut declared, "declared", &settings);
     assert_eq!(makespan, with_declared);
+    // r1 picks in one unit, the others in two: no longer alike.
+    let durations = "speed(r1, 1). speed(r2, 2). speed(r3, 2).\nduration(pick(R, _, _, _), D, D) :- speed(R, D).";
+    let mut apart = Session::from_text("apart.pl", pick_and_place_timed(false, durations));
+    assert!(!apart.has_errors(), "{:?}", common::messages(apart.diagnostics()));
+    assert!(!units_in_search(&mut apart), "the agents are told apart: no resource for the search");
+    let (_, origin) = planned_makespan(&mut apart, "apart", &settings);
+    assert!(origin.contains("jobs reassigned"), "{origin}");
 }
 
 /// The number of steps of `plan` whose names start with `prefix`.

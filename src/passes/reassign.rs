@@ -80,7 +80,8 @@
 //! with `kbc plan --schedule` on the warehouse KBs of `benches/other_domains` (no
 //! `resources/1`; robots that travel, so not interchangeable, which the candidates' checks
 //! enforce): makespans 84 -> 70 (`warehouse_c20_r2_s25`), 97 -> 85 (`_c20_r3_s30`), 108 -> 90
-//! (`_c25_r3_s30`), in the same time.
+//! (`_c25_r3_s30`), in the same time. (Where the units are interchangeable, the search takes
+//! the resource too: `session::resources_of`.)
 //!
 //! The pass does nothing (no candidates) when the KB declares and implies no resource, when a
 //! resource template has other than one variable (a unit is one value), when a step takes or
@@ -396,6 +397,12 @@ pub fn jobs(kb: &Kb, plan: &Plan) -> Option<Jobs> {
 /// ([`candidates`] only proposes), so a predicate that is not a resource costs time, never a
 /// wrong plan.
 fn implied(kb: &Kb) -> Vec<Template> {
+    implied_resources(kb).into_iter().map(|term| Template { term, position: 0, dynamic: true }).collect()
+}
+
+/// The templates (`free(_)`) of the resources `kb`'s actions imply, as [`implied`] finds them,
+/// whether it declares resources or not.
+pub fn implied_resources(kb: &Kb) -> Vec<Term> {
     let unary = |term: &Term| match term {
         Term::Compound(name, args) if args.len() == 1 => Some(*name),
         _ => None,
@@ -431,11 +438,7 @@ fn implied(kb: &Kb) -> Vec<Template> {
     found
         .into_iter()
         .filter(|name| added.contains(name) && !refused.contains(name))
-        .map(|name| Template {
-            term: Term::Compound(name, crate::ir::args::Args::from([Term::Var(crate::ir::hir::VarId(0))])),
-            position: 0,
-            dynamic: true,
-        })
+        .map(|name| Term::Compound(name, crate::ir::args::Args::from([Term::Var(crate::ir::hir::VarId(0))])))
         .collect()
 }
 

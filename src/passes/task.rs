@@ -8,8 +8,18 @@
 use crate::ir::hir::{Kb, Level, Literal, Snap, Term};
 use crate::ir::task::{Const, ConstId, Consts, Facts, LiteralPattern, Pattern, Schema, State, Task};
 
-/// Compiles problem number `problem` of `kb`.
+/// Compiles problem number `problem` of `kb`, with the KB's `resources/1` templates.
 pub fn build(kb: &Kb, problem: usize) -> Task {
+    let templates: Vec<Term> = kb.resources.iter().map(|r| r.template.term.clone()).collect();
+    build_with(kb, problem, &templates)
+}
+
+/// Compiles problem number `problem` of `kb`, with `resources` as its renewable resources'
+/// templates (`available(_)`): the KB's own, or one its actions imply
+/// (`Session::task` decides).
+pub fn build_with(kb: &Kb, problem: usize, resources: &[Term]) -> Task {
+    let is_resource =
+        |term: &Term| resources.iter().any(|r| r.callable() == term.callable() && crate::ir::unify::unifiable(r, term));
     let mut consts = Consts::default();
     let mut facts = Facts::default();
     let mut schemas = Vec::new();
@@ -24,17 +34,12 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         let mut resource_vars = Vec::new();
         let mut resource_valid = Vec::new();
         for valid in &action.valid {
-            resource_valid.push(kb.resources.iter().any(|r| {
-                r.template.name() == valid.name()
-                    && r.template.arity() == valid.arity()
-                    && crate::ir::unify::unifiable(&r.template.term, &valid.term)
-            }));
-            for resource in &kb.resources {
-                let template = &resource.template;
-                if template.name() != valid.name() || template.arity() != valid.arity() {
+            resource_valid.push(is_resource(&valid.term));
+            for template in resources {
+                if template.callable() != valid.term.callable() {
                     continue;
                 }
-                for (slot, value) in template.term.args().iter().zip(valid.term.args()) {
+                for (slot, value) in template.args().iter().zip(valid.term.args()) {
                     if let (Term::Var(_), Term::Var(v)) = (slot, value)
                         && !resource_vars.contains(&v.0)
                     {
@@ -109,17 +114,7 @@ pub fn build(kb: &Kb, problem: usize) -> Task {
         init,
         goal,
         goal_vars: problem_hir.vars.len(),
-        resource_goal: problem_hir
-            .goal
-            .iter()
-            .map(|g| {
-                kb.resources.iter().any(|r| {
-                    r.template.name() == g.name()
-                        && r.template.arity() == g.arity()
-                        && crate::ir::unify::unifiable(&r.template.term, &g.term)
-                })
-            })
-            .collect(),
+        resource_goal: problem_hir.goal.iter().map(|g| is_resource(&g.term)).collect(),
         goal_terms: problem_hir.goal.iter().map(|l| l.term.clone()).collect(),
         max_depth: problem_hir.max_depth,
     }

@@ -231,6 +231,43 @@ impl PlanSettings {
     }
 }
 
+/// The renewable resources the task of `problem` is built with: the KB's `resources/1`, or,
+/// where it declares none, the first resource its actions imply
+/// ([`crate::passes::reassign::implied_resources`]: `free(_)` in a pick-and-place KB) when its
+/// units, the values of its facts in the problem's initial state, are at least two and
+/// interchangeable there ([`planner::symmetry`]: swapping any two maps the task and the state
+/// to themselves). Then the search may treat them as one resource, as a declaration asks, and
+/// lose no plan; robots that stand on cells of their own (`robot_at(r1, 2, 3)`) are not
+/// interchangeable, and a KB that declares nothing keeps its units apart.
+fn resources_of(kb: &Kb, interner: &crate::intern::Interner, problem: usize) -> Vec<crate::ir::hir::Term> {
+    use crate::ir::hir::Term;
+    use crate::ir::task::Const;
+    if !kb.resources.is_empty() {
+        return kb.resources.iter().map(|r| r.template.term.clone()).collect();
+    }
+    let Some(template) = crate::passes::reassign::implied_resources(kb).into_iter().next() else {
+        return Vec::new();
+    };
+    let units: Vec<crate::intern::Symbol> = kb.problems[problem]
+        .init
+        .iter()
+        .filter(|fact| fact.term.callable() == template.callable())
+        .filter_map(|fact| match fact.term.args() {
+            [Term::Atom(unit)] => Some(*unit),
+            _ => None,
+        })
+        .collect();
+    if units.len() < 2 {
+        return Vec::new();
+    }
+    let mut task = crate::passes::task::build_with(kb, problem, &[]);
+    let mut symmetry = planner::symmetry::Symmetry::new(kb, interner, &mut task);
+    let classes = symmetry.classes(&task, &task.init);
+    let ids: Vec<_> = units.iter().map(|&unit| task.consts.intern(Const::Atom(unit))).collect();
+    let alike = ids.iter().all(|&id| symmetry.interchangeable(&classes, ids[0], id));
+    if alike { vec![template] } else { Vec::new() }
+}
+
 /// The share of `--improve`'s time that the search spends improving its own first plan
 /// (`Options::improve`); restarts with other tie-breaks take the rest
 /// ([`Session::restarts`]). Measured on the ladder (`kbc bench --search heuristic --improve
@@ -395,6 +432,8 @@ pub struct Session {
     programs: Vec<Option<Rc<Program>>>,
     /// Per problem: its planning task.
     tasks: Vec<Option<Task>>,
+    /// Per problem: the resource templates its task is built with ([`Session::task`]).
+    task_resources: Vec<Vec<crate::ir::hir::Term>>,
     searches: Vec<(usize, PlanSettings, SearchResult)>,
     /// The set-up of the last heuristic search, for the next search of the same task (the
     /// lookahead's second search and `--improve`'s restarts); dropped when `plan` ends.
@@ -452,6 +491,7 @@ impl Session {
             diagnostics,
             programs: Vec::new(),
             tasks: Vec::new(),
+            task_resources: Vec::new(),
             searches: Vec::new(),
             prepared: None,
             plans: Vec::new(),
@@ -554,6 +594,7 @@ impl Session {
         let n = self.frontend.kb.problems.len();
         self.programs.resize(n, None);
         self.tasks.resize_with(n, || None);
+        self.task_resources.resize_with(n, Vec::new);
     }
 
     /// The resolution program of `problem`: the KB with its goal's facts.
@@ -587,15 +628,17 @@ impl Session {
     }
 
     /// The planning task of `problem` (of its first grounding when its initial facts have
-    /// variables), verified.
+    /// variables), verified, built with its resources ([`resources_of`]).
     pub fn task(&mut self, problem: usize) -> &mut Task {
         let problem = self.representative(problem);
         self.grow();
-        let kb = &self.frontend.kb;
+        let (kb, interner) = (&self.frontend.kb, &self.frontend.interner);
+        let resources = &mut self.task_resources[problem];
         self.tasks[problem].get_or_insert_with(|| {
+            *resources = resources_of(kb, interner, problem);
             let task = timing::time(
                 "task",
-                || crate::passes::task::build(kb, problem),
+                || crate::passes::task::build_with(kb, problem, resources),
                 |task| {
                     format!(
                         "{} schemas, {} initial facts, {} goal literals",
@@ -639,7 +682,7 @@ impl Session {
         // A task of its own, as first built: the ids a search interns (constants, facts) order
         // its states' facts and so its ties, and must not depend on the searches before it.
         // (The session's task, built above once and verified, serves the passes after it.)
-        let task = &mut crate::passes::task::build(kb, problem);
+        let task = &mut crate::passes::task::build_with(kb, problem, &self.task_resources[problem]);
         let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
         scorer.memo = std::mem::take(&mut self.memo);
         let scored = settings.scored();
