@@ -36,6 +36,9 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
         machine.reset();
         match first_solution(&mut machine, prelude, problem.vars.len(), interner) {
             Ok((init, goal, count)) => resolved.push((index, init, goal, count)),
+            // (Failing for want of a built-in kbc does not provide says nothing of Prolog's
+            // run, where it may succeed: the check's E0210 on the call says why.)
+            Err(_) if calls_missing_builtin(kb, &program, interner, &prelude.goals) => {}
             Err(diagnostic) => diags.push(*diagnostic),
         }
     }
@@ -78,6 +81,33 @@ pub fn resolve(kb: &mut Kb, interner: &mut Interner, diags: &mut Diagnostics) {
         problem.goal = goal;
         problem.vars = vars;
     }
+}
+
+/// True if `goals`, or a rule they reach, call an SWI-Prolog built-in that kbc does not
+/// provide (`atom_concat/3`, [`crate::builtins::not_provided`]) and the KB does not define.
+fn calls_missing_builtin(kb: &Kb, program: &Program, interner: &Interner, goals: &[crate::ir::hir::Goal]) -> bool {
+    let mut seen: Vec<(crate::intern::Symbol, usize)> = Vec::new();
+    let mut pending: Vec<&crate::ir::hir::Goal> = goals.iter().collect();
+    while let Some(goal) = pending.pop() {
+        let mut called = Vec::new();
+        goal.for_each_called(&mut |literal, extra| called.push((literal.name(), literal.arity() + extra)));
+        for key in called {
+            if seen.contains(&key) {
+                continue;
+            }
+            seen.push(key);
+            if program.defines(key.0, key.1) {
+                let bodies = kb.clauses.iter().chain(&kb.library).filter(|c| (c.head.name(), c.head.arity()) == key);
+                pending.extend(bodies.filter_map(|c| c.body.as_deref()));
+            } else if crate::builtins::lookup(interner, key.0, key.1).is_none()
+                && !crate::builtins::is_builtin_predicate(key.0, key.1)
+                && crate::builtins::not_provided(interner.resolve(key.0)).is_some()
+            {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// The first solution of `prelude`'s goals (whose terms have `vars` variables, the
