@@ -1016,3 +1016,25 @@ fn a_test_with_arguments_is_chosen_by_its_head() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("the problems are `test(1)`, `test(2)`"), "{}", stderr(&out));
 }
+
+/// `-v` names the resource a KB without `resources/1` implies for the search (its units alike
+/// in the initial state), and names none where the KB declares one.
+#[test]
+fn the_task_pass_names_an_implied_resource() {
+    let kb = "agent(r1). agent(r2).
+action(pick_start(R, B), [free(R), loose(B)], [], [], [agent(R)], [del(free(R)), del(loose(B)), add(picking(R, B))]).
+action(pick_end(R, B), [picking(R, B)], [], [], [], [del(picking(R, B)), add(held(B)), add(free(R))]).
+duration(pick(_, _), 1, 2).
+test1 :- go([free(r1), free(r2), loose(x), loose(y)], [held(x), held(y)]).
+";
+    let task_line = |text: &str| -> String {
+        let file = scratch_file("implied-resource", "kb.pl", text);
+        let out = kbc(&["plan", "-v", file.to_str().expect("a UTF-8 path")]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        stderr(&out).lines().find(|l| l.trim_start().starts_with("task ")).expect("a task line").to_string()
+    };
+    let implied = task_line(kb);
+    assert!(implied.ends_with(", resource `free(_)` implied"), "{implied}");
+    let declared = task_line(&format!("{kb}resources(free(_)).\n"));
+    assert!(!declared.contains("implied"), "{declared}");
+}

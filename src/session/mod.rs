@@ -640,8 +640,16 @@ impl Session {
                 "task",
                 || crate::passes::task::build_with(kb, problem, resources),
                 |task| {
+                    // (A resource the KB does not declare is named: the search treats its units
+                    // as interchangeable, `resources_of`.)
+                    let implied = match resources.first().and_then(|t| t.callable()) {
+                        Some((name, _)) if kb.resources.is_empty() => {
+                            format!(", resource `{}(_)` implied", interner.resolve(name))
+                        }
+                        _ => String::new(),
+                    };
                     format!(
-                        "{} schemas, {} initial facts, {} goal literals",
+                        "{} schemas, {} initial facts, {} goal literals{implied}",
                         task.schemas.len(),
                         task.init.len(),
                         task.goal.len()
