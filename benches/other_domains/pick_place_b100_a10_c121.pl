@@ -1,6 +1,6 @@
 % Pick and place, in the style of a language model's KB: 100 boxes on a grid of 121 pos/2 cells, 10
 % agent/1 agents, free/1 and no resources/1; an agent picks a box from its cell and places it on
-% an empty one, two durative actions. (kbc plan pick_place_b100_a10_c121.pl --schedule)
+% an empty one, two durative actions. (kbc plan pick_place_domain.pl pick_place_b100_a10_c121.pl --schedule)
 agent(r1).
 agent(r2).
 agent(r3).
@@ -132,18 +132,6 @@ pos(11,8).
 pos(11,9).
 pos(11,10).
 pos(11,11).
-
-action(pick_start(R, B, X, Y), [free(R), at(B, X, Y)], [], [], [agent(R)],
-    [del(free(R)), del(at(B, X, Y)), add(picking(R, B, X, Y))]).
-action(pick_end(R, B, X, Y), [picking(R, B, X, Y)], [], [], [],
-    [del(picking(R, B, X, Y)), add(holding(R, B)), add(empty(X, Y))]).
-action(place_start(R, B, X, Y), [holding(R, B), empty(X, Y)], [placing(_, _, X, Y)], [], [pos(X, Y)],
-    [del(holding(R, B)), del(empty(X, Y)), add(placing(R, B, X, Y))]).
-action(place_end(R, B, X, Y), [placing(R, B, X, Y)], [], [], [],
-    [del(placing(R, B, X, Y)), add(at(B, X, Y)), add(free(R))]).
-duration(pick(_, _, _, _), 2, 3).
-duration(place(_, _, _, _), 2, 3).
-
 test1 :- go([
   free(r1),
   free(r2),
