@@ -227,13 +227,7 @@ impl Checker<'_> {
             let base_text = self.name(base).to_string();
             match (starts.first(), ends.first()) {
                 (Some(start), None) => {
-                    let end_name = hir::term_to_string(self.interner, &start.name.term, &start.vars).replacen(
-                        &format!("{base_text}_start"),
-                        &format!("{base_text}_end"),
-                        1,
-                    );
-                    let head = if start.level == Level::High { "action" } else { "ll_action" };
-                    let skeleton = format!("\n\n{head}({end_name},\n    [], [], [], [],\n    []).");
+                    let (end_name, skeleton) = missing_end(self.interner, start, &base_text);
                     self.diags.push(
                         Diagnostic::error(
                             codes::UNPAIRED_DURATIVE,
@@ -1149,4 +1143,19 @@ pub(crate) fn join_or(arities: &[usize]) -> String {
         [one] => one.to_string(),
         [rest @ .., last] => format!("{} or {last}", rest.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")),
     }
+}
+
+/// The end a durative action's start `start` (of base name `base`) lacks: its name, written as
+/// the start's with `_end` for `_start` (`push_end(A, B)`), and the clause that declares it
+/// with empty lists, as a fix's text to insert after the start. (Error E0204 for arm-level
+/// actions, warning W0019 from `lower` for high-level ones.)
+pub(crate) fn missing_end(interner: &Interner, start: &Action, base: &str) -> (String, String) {
+    let end_name = hir::term_to_string(interner, &start.name.term, &start.vars).replacen(
+        &format!("{base}_start"),
+        &format!("{base}_end"),
+        1,
+    );
+    let head = if start.level == Level::High { "action" } else { "ll_action" };
+    let skeleton = format!("\n\n{head}({end_name},\n    [], [], [], [],\n    []).");
+    (end_name, skeleton)
 }

@@ -1134,12 +1134,7 @@ impl Lowerer<'_> {
              duration, and `duration({base_text}(...), ...)` does not apply to it"
         );
         let diagnostic = if other == Snap::End {
-            let end_name = crate::ir::hir::term_to_string(self.interner, &action.name.term, &action.vars).replacen(
-                &format!("{base_text}_start"),
-                &format!("{base_text}_end"),
-                1,
-            );
-            let skeleton = format!("\n\naction({end_name},\n    [], [], [], [],\n    []).");
+            let (end_name, skeleton) = crate::passes::check::missing_end(self.interner, action, &base_text);
             Diagnostic::warning(codes::UNPAIRED_SNAP, format!("durative action `{base_text}` has a start but no end"))
                 .primary(action.name.name_span, format!("`{base_text}_start` declared here"))
                 .with_note(note)

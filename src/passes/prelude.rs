@@ -100,7 +100,6 @@ fn calls_missing_builtin(kb: &Kb, program: &Program, interner: &Interner, goals:
                 let bodies = kb.clauses.iter().chain(&kb.library).filter(|c| (c.head.name(), c.head.arity()) == key);
                 pending.extend(bodies.filter_map(|c| c.body.as_deref()));
             } else if crate::builtins::lookup(interner, key.0, key.1).is_none()
-                && !crate::builtins::is_builtin_predicate(key.0, key.1)
                 && crate::builtins::not_provided(interner.resolve(key.0)).is_some()
             {
                 return true;

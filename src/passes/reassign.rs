@@ -216,7 +216,6 @@ fn varied(tail: i64, step: usize, variant: u64) -> i64 {
 }
 
 /// One unit's resource: the template (`available(_)`) and the argument position of its unit.
-#[derive(Clone)]
 struct Template {
     term: Term,
     position: usize,
@@ -388,20 +387,19 @@ pub fn jobs(kb: &Kb, plan: &Plan) -> Option<Jobs> {
     jobs_of(kb, plan, templates)
 }
 
-/// The resources a KB without `resources/1` implies, in the order its actions first delete
-/// them: each one-argument predicate `p/1` (`free/1`, `available/1`) that actions both delete
-/// and add, where every action that deletes a `p(X)` is the start of a durative action with
-/// `p(X)` among its Valid literals (it takes a unit it needs), and every action that adds one
-/// is an end (it gives the unit back). `clear/1` in the blocks world is not one: an end
-/// deletes it (`grip_end`). The template is `p(_)`; its jobs are checked as any plan is
-/// ([`candidates`] only proposes), so a predicate that is not a resource costs time, never a
-/// wrong plan.
+/// [`implied_resources`] as the pass's templates.
 fn implied(kb: &Kb) -> Vec<Template> {
     implied_resources(kb).into_iter().map(|term| Template { term, position: 0, dynamic: true }).collect()
 }
 
-/// The templates (`free(_)`) of the resources `kb`'s actions imply, as [`implied`] finds them,
-/// whether it declares resources or not.
+/// The templates (`p(_)`) of the resources `kb`'s actions imply, whether it declares resources
+/// or not, in the order its actions first delete them: each one-argument predicate `p/1`
+/// (`free/1`, `available/1`) that actions both delete and add, where every action that deletes
+/// a `p(X)` is the start of a durative action with `p(X)` among its Valid literals (it takes a
+/// unit it needs), and every action that adds one is an end (it gives the unit back).
+/// `clear/1` in the blocks world is not one: an end deletes it (`grip_end`). This pass's jobs
+/// of them are checked as any plan is ([`candidates`] only proposes), so a predicate that is
+/// not a resource costs time, never a wrong plan.
 pub fn implied_resources(kb: &Kb) -> Vec<Term> {
     let unary = |term: &Term| match term {
         Term::Compound(name, args) if args.len() == 1 => Some(*name),

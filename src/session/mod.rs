@@ -237,8 +237,8 @@ impl PlanSettings {
 /// units, the values of its facts in the problem's initial state, are at least two and
 /// interchangeable there ([`planner::symmetry`]: swapping any two maps the task and the state
 /// to themselves). Then the search may treat them as one resource, as a declaration asks, and
-/// lose no plan; robots that stand on cells of their own (`robot_at(r1, 2, 3)`) are not
-/// interchangeable, and a KB that declares nothing keeps its units apart.
+/// lose no plan. Otherwise (robots that stand on cells of their own, `robot_at(r1, 2, 3)`) the
+/// search keeps the units apart, and only `reassign` uses the implied resource.
 fn resources_of(kb: &Kb, interner: &crate::intern::Interner, problem: usize) -> Vec<crate::ir::hir::Term> {
     use crate::ir::hir::Term;
     use crate::ir::task::Const;
