@@ -83,6 +83,9 @@ pub enum Native {
     NotBefore,
     Variant,
     NotVariant,
+    /// `dif/2`: checked at once, and again after every unification while its terms could
+    /// still become identical (`Machine::difs`).
+    Dif,
     Functor,
     Arg,
     Univ,
@@ -214,6 +217,14 @@ pub const PREDICATES: &[Builtin] = &[
     builtin("\\==", 2, Protected, Engine, Values, "not identical"),
     builtin("=@=", 2, Library, N(Native::Variant), Values, "variants: equal up to renaming variables"),
     builtin("\\=@=", 2, Library, N(Native::NotVariant), Values, "not variants"),
+    builtin(
+        "dif",
+        2,
+        Library,
+        N(Native::Dif),
+        Values,
+        "different: fails if the terms are identical, and later as soon as bindings make them so",
+    ),
     builtin("compare", 3, Protected, N(Native::Compare), Names, "the standard order of two terms: `<`, `=` or `>`"),
     builtin("@<", 2, Protected, N(Native::Before), Names, "before in the standard order of terms"),
     builtin("@>", 2, Protected, N(Native::After), Names, "after in the standard order of terms"),

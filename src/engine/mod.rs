@@ -587,6 +587,8 @@ struct Choicepoint {
     heap: u32,
     trail: u32,
     conts: u32,
+    /// How many `dif/2` constraints were pending.
+    difs: u32,
 }
 
 /// A special goal: cut back to the given choicepoint height (if-then-else, negation).
@@ -626,10 +628,18 @@ pub struct Machine<'p> {
     budget: u64,
     /// Whether a unification of the current query failed by the occurs check alone.
     occurs_failed: bool,
+    /// Whether a unification of the current query failed only because it made the terms of a
+    /// pending `dif/2` identical.
+    dif_failed: bool,
     /// Scratch space for [`Machine::unify`]'s pairs still to unify.
     unify_pending: Vec<(Cell, Cell)>,
     /// The solutions of the `findall/3` calls under way, innermost last.
     collectors: Vec<Collector>,
+    /// The `dif/2` constraints whose terms could still become identical, oldest first: each
+    /// unification that succeeds checks them again ([`Machine::difs_hold`]), and fails if it
+    /// made one identical. Backtracking drops those added since the choicepoint; one found to
+    /// hold for good stays (it keeps holding, terms only ever get more bound).
+    difs: Vec<(Cell, Cell)>,
 }
 
 impl<'p> Machine<'p> {
@@ -644,8 +654,10 @@ impl<'p> Machine<'p> {
             steps: 0,
             budget,
             occurs_failed: false,
+            dif_failed: false,
             unify_pending: Vec::new(),
             collectors: Vec::new(),
+            difs: Vec::new(),
         }
     }
 
@@ -654,6 +666,13 @@ impl<'p> Machine<'p> {
     /// have made a cyclic term and gone on: diagnostics say so when a proof fails.
     pub fn occurs_check_failed(&self) -> bool {
         self.occurs_failed
+    }
+
+    /// Whether some unification since the last [`Machine::reset`] failed only because its
+    /// bindings made the two terms of a pending `dif/2` identical: diagnostics name the
+    /// constraint, not the goal whose proof it stopped, as the reason.
+    pub fn dif_check_failed(&self) -> bool {
+        self.dif_failed
     }
 
     /// The program the machine runs.
@@ -668,8 +687,10 @@ impl<'p> Machine<'p> {
         self.conts.clear();
         self.choicepoints.clear();
         self.collectors.clear();
+        self.difs.clear();
         self.steps = 0;
         self.occurs_failed = false;
+        self.dif_failed = false;
     }
 
     /// The steps the last query took.
@@ -816,7 +837,31 @@ impl<'p> Machine<'p> {
         pending.push((a, b));
         let unified = self.unify_pairs(&mut pending);
         self.unify_pending = pending;
-        unified
+        if !unified || self.difs.is_empty() || self.difs_hold() {
+            return unified;
+        }
+        self.dif_failed = true;
+        false
+    }
+
+    /// Whether `a` and `b` could unify, leaving nothing bound (nor the occurs-check flag set).
+    pub(super) fn unifiable(&mut self, a: Cell, b: Cell) -> bool {
+        let (mark, occurs) = (self.trail.len() as u32, self.occurs_failed);
+        let mut pending = vec![(a, b)];
+        let unifies = self.unify_pairs(&mut pending);
+        self.undo_to(mark);
+        self.occurs_failed = occurs;
+        unifies
+    }
+
+    /// Whether every pending `dif/2` constraint still holds: no two of its terms are identical
+    /// after the bindings made since it was checked. (Kept, whether they could still unify or
+    /// not: a constraint is rarely pending and the list is short.)
+    fn difs_hold(&mut self) -> bool {
+        (0..self.difs.len()).all(|i| {
+            let (a, b) = self.difs[i];
+            !self.identical(a, b)
+        })
     }
 
     /// Unifies the pairs in `pending` (emptying it unless it fails).
@@ -913,6 +958,7 @@ impl<'p> Machine<'p> {
         let base_choicepoints = self.choicepoints.len() as u32;
         let base_trail = self.trail.len() as u32;
         let base_collectors = self.collectors.len();
+        let base_difs = self.difs.len();
         let mut current = self.push_goal(goal, base_choicepoints, NIL);
         let result = loop {
             if current == NIL {
@@ -943,6 +989,7 @@ impl<'p> Machine<'p> {
         };
         self.choicepoints.truncate(base_choicepoints as usize);
         self.collectors.truncate(base_collectors);
+        self.difs.truncate(base_difs);
         self.undo_to(base_trail);
         result
     }
@@ -958,6 +1005,7 @@ impl<'p> Machine<'p> {
             self.undo_to(cp.trail);
             self.heap.truncate(cp.heap as usize);
             self.conts.truncate(cp.conts as usize);
+            self.difs.truncate(cp.difs as usize);
             match cp.alternative {
                 Alternative::Goal { goal, cut } => {
                     self.choicepoints.pop();
@@ -1160,6 +1208,7 @@ impl<'p> Machine<'p> {
             heap: self.heap.len() as u32,
             trail: self.trail.len() as u32,
             conts: self.conts.len() as u32,
+            difs: self.difs.len() as u32,
         });
     }
 

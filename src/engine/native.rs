@@ -86,6 +86,17 @@ impl<'p> Machine<'p> {
             Native::NotBefore => holds(self.compare_terms(args[0], args[1]).is_ge()),
             Native::Variant => holds(self.variant(args[0], args[1])),
             Native::NotVariant => holds(!self.variant(args[0], args[1])),
+            // Identical terms: fails. Terms that cannot unify: holds for good. Otherwise it
+            // waits, pending, for bindings that might make them identical.
+            Native::Dif => {
+                if self.identical(args[0], args[1]) {
+                    return holds(false);
+                }
+                if self.unifiable(args[0], args[1]) {
+                    self.difs.push((args[0], args[1]));
+                }
+                holds(true)
+            }
             Native::Functor => self.functor(args, next),
             Native::Arg => self.arg(args, cut, next),
             Native::Univ => self.univ(args, next),

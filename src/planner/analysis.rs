@@ -378,7 +378,7 @@ impl Explainer<'_, '_> {
                 }
                 return;
             }
-            if let Some((goal, occurs_check)) = self.failing_on_kb_goal(task, s, &bindings) {
+            if let Some((goal, occurs_check, dif)) = self.failing_on_kb_goal(task, s, &bindings) {
                 let goal_shown =
                     hir::term_to_string(self.interner, &substitute(&goal.term, &task.consts, &bindings), &action.vars);
                 self.notes.push(format!(
@@ -389,6 +389,13 @@ impl Explainer<'_, '_> {
                         "a unification in that proof failed by the occurs check (a variable against a term \
                          that contains it, as `X = f(X)`): kbc builds no cyclic terms, where SWI-Prolog makes \
                          one and goes on (docs/dsl.md, \"Built-ins\")"
+                            .to_string(),
+                    );
+                }
+                if dif {
+                    self.notes.push(
+                        "that proof binds values which a `dif/2` goal before it keeps apart: the constraint \
+                         rejects them"
                             .to_string(),
                     );
                 }
@@ -431,7 +438,7 @@ impl Explainer<'_, '_> {
         task: &Task,
         s: usize,
         bindings: &[Option<ConstId>],
-    ) -> Option<(hir::Literal, bool)> {
+    ) -> Option<(hir::Literal, bool, bool)> {
         use crate::engine::{Cell, Next};
         let schema = &task.schemas[s];
         for k in 1..=schema.on_kb.len() {
@@ -456,7 +463,7 @@ impl Explainer<'_, '_> {
                 schema.on_kb[k - 1].for_each_call(&mut |l| {
                     first.get_or_insert_with(|| l.clone());
                 });
-                return first.map(|l| (l, self.machine.occurs_check_failed()));
+                return first.map(|l| (l, self.machine.occurs_check_failed(), self.machine.dif_check_failed()));
             }
         }
         None

@@ -335,3 +335,22 @@ q(429, L, findall(X, lists:member(X, [p, q]), L)).
 q(430, L, qualified(L)).
 q(431, L, maplist(lists:reverse, [[a, b], [c]], L)).
 q(432, X, call(lists:member, X, [u, v])).
+% dif/2: checked at once, then again whenever bindings could make its terms identical.
+q(433, X-Y, (dif(X, Y), X = a, member(Y, [a, b, c]))).
+q(434, X, (dif(X, a), member(X, [a, b, a, c]))).
+q(435, t, dif(a, a)).
+q(436, t, dif(a, b)).
+q(437, Y, (dif(f(X, b), f(a, Y)), X = a, member(Y, [a, b, c]))).
+q(438, X-Y, (dif(X, Y), X = Y)).
+q(439, X-Y, (dif(X, Y), (X = 1 ; true), (Y = 1 ; Y = 2))).
+q(440, X, (dif(X, a), \+ X = a, X = b)).
+q(441, X, \+ dif(X, a)).
+q(442, L, findall(X, (member(X, [p, q, r]), dif(X, q)), L)).
+q(443, X, (dif(X, a), (X = a -> true ; X = c))).
+q(444, X-Y, (dif(g(X), g(Y)), X = Y)).
+q(445, X, ((dif(X, Y), X = Y) ; X = z)).
+q(446, X-Y, (dif([X|Y], [a, b]), X = a, Y = [b])).
+q(447, X-Y, (dif([X|Y], [a, b]), X = a, Y = [c])).
+q(448, X, dif(X, a)).
+q(449, X-Y, (dif(X, Y), X \= Y)).
+q(450, X-Y, (dif(f(X), f(Y)), dif(X, b), member(X-Y, [a-a, a-b, b-c, c-d]))).
