@@ -847,8 +847,11 @@ impl<'p> Machine<'p> {
     /// Whether `a` and `b` could unify, leaving nothing bound (nor the occurs-check flag set).
     pub(super) fn unifiable(&mut self, a: Cell, b: Cell) -> bool {
         let (mark, occurs) = (self.trail.len() as u32, self.occurs_failed);
-        let mut pending = vec![(a, b)];
+        let mut pending = std::mem::take(&mut self.unify_pending);
+        pending.clear();
+        pending.push((a, b));
         let unifies = self.unify_pairs(&mut pending);
+        self.unify_pending = pending;
         self.undo_to(mark);
         self.occurs_failed = occurs;
         unifies
@@ -857,11 +860,8 @@ impl<'p> Machine<'p> {
     /// Whether every pending `dif/2` constraint still holds: no two of its terms are identical
     /// after the bindings made since it was checked. (Kept, whether they could still unify or
     /// not: a constraint is rarely pending and the list is short.)
-    fn difs_hold(&mut self) -> bool {
-        (0..self.difs.len()).all(|i| {
-            let (a, b) = self.difs[i];
-            !self.identical(a, b)
-        })
+    fn difs_hold(&self) -> bool {
+        self.difs.iter().all(|&(a, b)| !self.identical(a, b))
     }
 
     /// Unifies the pairs in `pending` (emptying it unless it fails).
