@@ -323,6 +323,27 @@ fn improving_keeps_the_shortest_reassigned_schedule() {
 }
 
 #[test]
+fn improving_for_a_number_of_states_gives_the_same_shorter_plan_every_run() {
+    // A grid KB in other authors' style where the default plan makes a block detour far (7.004
+    // when written); a makespan of 5 is possible (b1 waits on b3's cell), and no plan is
+    // shorter: the rung's proven lower bound is 5.
+    let rung = Rung::write("grid_b06_a2_s6", "improve-states");
+    let kb = rung.kb.as_str();
+    let improve = ["plan", kb, "--schedule", "--improve-states", "8000"];
+    let improved = stdout(&kbc(&improve));
+    let first = stdout(&kbc(&["plan", kb, "--schedule"]));
+    assert!(makespan_of(&improved) < makespan_of(&first), "{improved}\n{first}");
+    assert!(makespan_of(&improved) >= 5.0, "{improved}");
+    assert_eq!(plan_lines(&stdout(&kbc(&improve))), plan_lines(&improved), "the same plan on every run");
+    let check = validate_text(kb, &improved, "improved-states");
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+    // With `--improve`, the time counts: the states budget does not cut it short.
+    let timed =
+        stdout(&kbc(&["plan", kb, "--schedule", "--improve", "600", "--max-states", "9000", "--improve-states", "1"]));
+    assert!(makespan_of(&timed) <= makespan_of(&improved), "{timed}");
+}
+
+#[test]
 fn replans_after_a_fault_are_reassigned_too() {
     let rung = Rung::write("reverse_b08_a3_s1", "replan-reassign");
     let kb = rung.kb.as_str();

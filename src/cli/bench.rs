@@ -45,6 +45,10 @@ pub(super) struct BenchArgs {
     /// (as `kbc plan --improve`); the ratio column then shows what the improvement reached.
     #[arg(long, value_name = "SECONDS")]
     improve: Option<f64>,
+    /// As `--improve`, for this many states expanded after the first plan instead of a time
+    /// (as `kbc plan --improve-states`).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    improve_states: u64,
     /// The output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
@@ -114,7 +118,9 @@ pub(super) fn run(args: BenchArgs) -> ExitCode {
             };
             // (The paper's search has no improvement phase.)
             let improve = if search == SearchKind::Heuristic { improve } else { None };
-            let settings = PlanSettings { lookahead: args.lookahead.into(), improve, ..PlanSettings::default() };
+            let improve_states = args.improve_states;
+            let settings =
+                PlanSettings { lookahead: args.lookahead.into(), improve, improve_states, ..PlanSettings::default() };
             let row = ladder::run_with(rung, search, budget, args.max_depth, &settings);
             if search == SearchKind::Heuristic && row.result.is_ok() {
                 heuristic_time = Some(row.elapsed);

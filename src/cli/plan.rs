@@ -62,6 +62,11 @@ pub(super) struct PlanningArgs {
     /// makespan, and keep the best (heuristic search).
     #[arg(long, value_name = "SECONDS")]
     pub(super) improve: Option<f64>,
+    /// As `--improve`, but for this many states expanded after the first plan instead of a
+    /// time, so that every run gives the same plan (heuristic search; with `--improve`, the
+    /// time counts and this is ignored)
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub(super) improve_states: u64,
     /// Keep the search's choice of arm for each job and its order of jobs, and its waiting
     /// starts (by default the heuristic search's plan is rearranged when that shortens its
     /// makespan: the `reassign` pass, which also sends a start that holds an arm waiting
@@ -225,6 +230,7 @@ impl PlanningArgs {
             max_bytes: (self.max_memory as usize).saturating_mul(1 << 20),
             retries: self.retries as usize,
             improve: self.improve.map(|s| Duration::from_secs_f64(s.max(0.0))),
+            improve_states: self.improve_states,
             reassign: !self.no_reassign,
             plan_file: None,
             epsilon: self.epsilon,

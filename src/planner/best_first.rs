@@ -610,10 +610,29 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
     path.reverse();
 }
 
+/// How long the heuristic search goes on improving on its first plan: until a moment (the
+/// time of `--improve`), for a number of expansions after the first plan (the default run's
+/// improvement, which gives the same plans on every run), or whichever comes first.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Improving {
+    /// Stop at this moment.
+    pub until: Option<Instant>,
+    /// Stop after this many expansions past the first plan's.
+    pub expansions: Option<u64>,
+}
+
+impl Improving {
+    /// Whether a search with `stats`, which has found its first plan, is to stop improving.
+    fn reached(&self, stats: &Stats) -> bool {
+        self.until.is_some_and(|until| Instant::now() >= until)
+            || self.expansions.is_some_and(|n| stats.expanded >= stats.first_expanded.saturating_add(n))
+    }
+}
+
 /// Greedy best-first search.
 ///
 /// After the first plan the search may go on (anytime, as LAMA does), each further plan with
-/// a shorter makespan than the last. With `improve_until`, the first plan restarts the search
+/// a shorter makespan than the last. With `improving`, the first plan restarts the search
 /// from the initial state (LAMA restarts too): the open lists then hold what was ordered for
 /// finding any plan, and searching on from them rarely finds a better one. From there,
 /// prefixes that cannot beat the best makespan are pruned, a state reached again by a prefix
@@ -623,7 +642,7 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 /// ladder with `--improve 1`: build_b15 68.0 -> 31.0, swap_b20 174.0 -> 74.0, where going on
 /// with the first search's open lists had left build_b15 at 68.0 (and swap_b20 at 174.0
 /// with `--improve 0.3`). It stops
-/// when `wanted` plans are found, `improve_until` has passed, the open lists are empty, or the
+/// when `wanted` plans are found, `improving`'s limit is reached, the open lists are empty, or the
 /// budget runs out. With `temporal`, plan prefixes
 /// whose durations cannot be met are pruned ([`Timeline::consistent`]).
 ///
@@ -646,7 +665,7 @@ pub fn search(
     mode: Lookahead,
     budget: &Budget,
     wanted: usize,
-    improve_until: Option<Instant>,
+    improving: Option<Improving>,
     temporal: bool,
     epsilon: i64,
     tie_seed: Option<u64>,
@@ -731,7 +750,7 @@ pub fn search(
         if let Some(kind) = over_budget(budget, &stats, bytes) {
             return Outcome::ended(found, Failure::Budget(kind), stats);
         }
-        if !found.is_empty() && improve_until.is_some_and(|until| Instant::now() >= until) {
+        if !found.is_empty() && improving.is_some_and(|limit| limit.reached(&stats)) {
             return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
         }
         // The timeline of the plan prefix that leads here, replayed from the root; a prefix
@@ -892,10 +911,10 @@ pub fn search(
                     None => best = Some(makespan),
                 }
                 found.push(plan);
-                if found.len() >= wanted || improve_until.is_some_and(|until| Instant::now() >= until) {
+                if found.len() >= wanted || improving.is_some_and(|limit| limit.reached(&stats)) {
                     return Outcome::ended(found, Failure::Exhausted { depth_limit: None }, stats);
                 }
-                if first && improve_until.is_some() && best.is_some() {
+                if first && improving.is_some() && best.is_some() {
                     restart = true;
                     break;
                 }

@@ -136,6 +136,10 @@ pub struct Options {
     /// For the heuristic search: how long to go on improving the makespan after the first
     /// plan (within the budget).
     pub improve: Option<Duration>,
+    /// For the heuristic search: how many expansions to go on improving the makespan after
+    /// the first plan (with `improve`, whichever limit comes first). Unlike a time, the same
+    /// on every run: the default run's improvement ([`crate::session::PlanSettings`]).
+    pub improve_states: Option<u64>,
     /// The least separation of two ordered snap actions, in STN time, for the heuristic
     /// search's timing of plan prefixes (the same as the temporal network's).
     pub epsilon: i64,
@@ -193,6 +197,7 @@ impl Default for Options {
             budget: Budget::default(),
             plans: 1,
             improve: None,
+            improve_states: None,
             epsilon: crate::ir::stn::EPSILON,
             symmetry: true,
             lookahead: Lookahead::Auto,
@@ -529,9 +534,10 @@ pub fn search_prepared(
             paper::search(task, successors, limit, &options.budget, options.plans.max(1), &mut accept, progress)
         }
         SearchKind::Heuristic => {
-            let (wanted, until) = match options.improve {
-                Some(time) => (usize::MAX, Some(Instant::now() + time)),
-                None => (options.plans.max(1), None),
+            let until = options.improve.map(|time| Instant::now() + time);
+            let (wanted, until) = match (until, options.improve_states) {
+                (None, None) => (options.plans.max(1), None),
+                (until, expansions) => (usize::MAX, Some(best_first::Improving { until, expansions })),
             };
             let relaxation = relaxation.expect("grounded for the root check");
             let outcome = best_first::search(

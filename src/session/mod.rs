@@ -132,6 +132,10 @@ pub struct PlanSettings {
     pub retries: usize,
     /// After the first plan, how long to go on searching for shorter makespans.
     pub improve: Option<Duration>,
+    /// Without `improve`: how many expansions the heuristic search goes on after its first
+    /// plan for shorter makespans, each plan it finds scored after `reassign` (0: none, the
+    /// default). Unlike `improve`, which counts time, it gives the same plan on every run.
+    pub improve_states: u64,
     /// Run the heuristic search's plans through the `reassign` pass (it never applies to the
     /// paper's search or to a plan file).
     pub reassign: bool,
@@ -169,6 +173,7 @@ impl Default for PlanSettings {
             max_bytes: budget.max_bytes,
             retries: 0,
             improve: None,
+            improve_states: 0,
             reassign: true,
             plan_file: None,
             epsilon: crate::ir::stn::EPSILON,
@@ -196,6 +201,8 @@ impl PlanSettings {
             plans: self.retries + 1,
             // (The rest of the time goes to restarts, see `Session::restarts`.)
             improve: self.improve.map(|time| time.mul_f64(IMPROVING_SEARCH_SHARE)),
+            // (Set by `Session::search`, see `improves_by_states`.)
+            improve_states: None,
             epsilon: self.epsilon,
             symmetry: self.symmetry,
             lookahead: self.lookahead,
@@ -214,7 +221,24 @@ impl PlanSettings {
 
     /// Whether the search scores its plans by their makespan after `reassign` (while improving).
     fn scored(&self) -> bool {
-        self.improve.is_some() && self.reassigns()
+        self.improving() && self.reassigns()
+    }
+
+    /// Whether the search goes on after its first plan for shorter makespans, for a time
+    /// (`improve`) or a number of expansions ([`PlanSettings::improves_by_states`]).
+    fn improving(&self) -> bool {
+        self.improve.is_some() || self.improves_by_states()
+    }
+
+    /// Whether the heuristic search goes on after its first plan for `improve_states`
+    /// expansions: without `improve` (which counts time instead), outside its restarts, and
+    /// without `retries` (which ask for other plans, not shorter ones).
+    fn improves_by_states(&self) -> bool {
+        self.improve_states > 0
+            && self.improve.is_none()
+            && self.tie_seed.is_none()
+            && self.retries == 0
+            && self.search == SearchKind::Heuristic
     }
 
     /// Whether a search after one with these settings that gave `stats` (its second search, a
@@ -691,9 +715,13 @@ impl Session {
         // its states' facts and so its ties, and must not depend on the searches before it.
         // (The session's task, built above once and verified, serves the passes after it.)
         let task = &mut crate::passes::task::build_with(kb, problem, &self.task_resources[problem]);
+        let mut options = options;
+        if settings.improves_by_states() {
+            options.improve_states = Some(settings.improve_states);
+        }
         let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
         scorer.memo = std::mem::take(&mut self.memo);
-        let scored = settings.scored();
+        let scored = settings.reassigns() && (settings.improve.is_some() || options.improve_states.is_some());
         let prepared = &mut self.prepared;
         let outcome = timing::time(
             "search",
@@ -886,7 +914,7 @@ impl Session {
     ) -> Planned {
         let Some(stats) = planned.stats else { return planned };
         // (While improving, the expansions the search took to its first plan, as without.)
-        let expanded = if settings.improve.is_some() { stats.first_expanded } else { stats.expanded };
+        let expanded = if settings.improving() { stats.first_expanded } else { stats.expanded };
         // (A search that turned the lookahead on later began plain: the second search still
         // runs.)
         let from_start = stats.lookahead && stats.lookahead_from == 0;
@@ -1360,7 +1388,7 @@ impl Session {
                         }
                         chosen = Some((index, timed, searched, sent));
                     }
-                    if settings.improve.is_none() || scored {
+                    if !settings.improving() || scored {
                         break;
                     }
                 }
