@@ -138,7 +138,7 @@ pub struct Options {
     pub improve: Option<Duration>,
     /// For the heuristic search: how many expansions to go on improving the makespan after
     /// the first plan (with `improve`, whichever limit comes first). Unlike a time, the same
-    /// on every run: the default run's improvement ([`crate::session::PlanSettings`]).
+    /// on every run (`kbc plan --improve-states`).
     pub improve_states: Option<u64>,
     /// The least separation of two ordered snap actions, in STN time, for the heuristic
     /// search's timing of plan prefixes (the same as the temporal network's).

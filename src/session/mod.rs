@@ -201,8 +201,7 @@ impl PlanSettings {
             plans: self.retries + 1,
             // (The rest of the time goes to restarts, see `Session::restarts`.)
             improve: self.improve.map(|time| time.mul_f64(IMPROVING_SEARCH_SHARE)),
-            // (Set by `Session::search`, see `improves_by_states`.)
-            improve_states: None,
+            improve_states: self.improves_by_states().then_some(self.improve_states),
             epsilon: self.epsilon,
             symmetry: self.symmetry,
             lookahead: self.lookahead,
@@ -715,13 +714,9 @@ impl Session {
         // its states' facts and so its ties, and must not depend on the searches before it.
         // (The session's task, built above once and verified, serves the passes after it.)
         let task = &mut crate::passes::task::build_with(kb, problem, &self.task_resources[problem]);
-        let mut options = options;
-        if settings.improves_by_states() {
-            options.improve_states = Some(settings.improve_states);
-        }
         let mut scorer = ReassignedMakespan::new(kb, interner, &program, settings.epsilon);
         scorer.memo = std::mem::take(&mut self.memo);
-        let scored = settings.reassigns() && (settings.improve.is_some() || options.improve_states.is_some());
+        let scored = settings.scored();
         let prepared = &mut self.prepared;
         let outcome = timing::time(
             "search",
@@ -925,6 +920,7 @@ impl Session {
             lookahead: planner::Lookahead::On,
             max_states: expanded,
             improve: None,
+            improve_states: 0,
             thorough: settings.thorough(),
             stalled: settings.stalled_after(Some(&stats)),
             ..settings.clone()
@@ -1129,7 +1125,7 @@ impl Session {
                 Err(failure) => paper = Some(failure),
             }
             for (plan, origin, stats) in candidates {
-                let single = PlanSettings { retries: 0, improve: None, ..settings.clone() };
+                let single = PlanSettings { retries: 0, improve: None, improve_states: 0, ..settings.clone() };
                 let mut quiet = Diagnostics::new();
                 std::mem::swap(&mut quiet, &mut self.diagnostics);
                 let scheduled = self.schedule_best(high.problem, vec![plan], origin, Some(stats), &single);
