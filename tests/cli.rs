@@ -337,10 +337,10 @@ fn improving_for_a_number_of_states_gives_the_same_shorter_plan_every_run() {
     assert_eq!(plan_lines(&stdout(&kbc(&improve))), plan_lines(&improved), "the same plan on every run");
     let check = validate_text(kb, &improved, "improved-states");
     assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
-    // With `--improve`, the time counts: the states budget does not cut it short.
-    let timed =
-        stdout(&kbc(&["plan", kb, "--schedule", "--improve", "600", "--max-states", "9000", "--improve-states", "1"]));
-    assert!(makespan_of(&timed) <= makespan_of(&improved), "{timed}");
+    // A time and a number of states at once is a usage error, not a silent choice of one.
+    let both = kbc(&["plan", kb, "--improve", "1", "--improve-states", "10"]);
+    assert_eq!(both.status.code(), Some(2), "{}", stderr(&both));
+    assert!(stderr(&both).contains("--improve-states"), "{}", stderr(&both));
 }
 
 #[test]

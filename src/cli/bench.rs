@@ -46,8 +46,8 @@ pub(super) struct BenchArgs {
     #[arg(long, value_name = "SECONDS")]
     improve: Option<f64>,
     /// As `--improve`, for this many states expanded after the first plan instead of a time
-    /// (as `kbc plan --improve-states`).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    /// (as `kbc plan --improve-states`; not with `--improve`).
+    #[arg(long, value_name = "N", default_value_t = 0, conflicts_with = "improve")]
     improve_states: u64,
     /// The output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]

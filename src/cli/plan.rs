@@ -63,9 +63,8 @@ pub(super) struct PlanningArgs {
     #[arg(long, value_name = "SECONDS")]
     pub(super) improve: Option<f64>,
     /// As `--improve`, but for this many states expanded after the first plan instead of a
-    /// time, so that every run gives the same plan (heuristic search; with `--improve`, the
-    /// time counts and this is ignored)
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    /// time, so that every run gives the same plan (heuristic search; not with `--improve`)
+    #[arg(long, value_name = "N", default_value_t = 0, conflicts_with = "improve")]
     pub(super) improve_states: u64,
     /// Keep the search's choice of arm for each job and its order of jobs, and its waiting
     /// starts (by default the heuristic search's plan is rearranged when that shortens its
