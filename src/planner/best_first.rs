@@ -613,7 +613,7 @@ fn path_to(nodes: &[Node], id: u32, path: &mut Vec<u32>) {
 /// How long the heuristic search goes on improving on its first plan: until a moment (the
 /// time of `--improve`), for a number of expansions after the first plan
 /// (`--improve-states`, which gives the same plans on every run), or whichever comes first.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct Improving {
     /// Stop at this moment.
     pub until: Option<Instant>,
