@@ -110,6 +110,12 @@
 //! wants it on while that one must still move) is followed again without that end, up to
 //! [`AVOIDED_ENDS`] times; see there for what it measured.
 //!
+//! The plain chain takes waiting starts while an arm is free, which can leave most arms
+//! holding blocks for towers that are far from ready. A search that looked ahead from the
+//! start and stalls in its first [`PATIENT_STATES`] expansions begins again from the initial
+//! state with patient chains, which take no waiting start while [`PATIENT_WAITING`] of theirs
+//! still wait; see there for what it measured.
+//!
 //! Among the applicable instances of a plan step the lookahead ranks, those that start at the
 //! same time are told apart by their earliest end ([`StepRank`]): a block moved aside goes to
 //! the nearest free cell rather than the first one listed, which on the reverse rungs was
@@ -327,6 +333,30 @@ fn loose_values(task: &Task, loose: &[u32], action: &Applicable) -> Vec<(usize, 
 /// first ones are.
 const LOOSENED_MISSES: u32 = 8;
 
+/// A search that follows relaxed plans from the start ([`Lookahead::Auto`] on a large
+/// problem, or `--lookahead`), has no plan, found its best estimate within its first this
+/// many expansions and none better in this many since, begins again from the initial state
+/// with patient chains (see [`PATIENT_WAITING`]). The lookahead's chains take every start of
+/// the relaxed plan that applies, also one whose action cannot end yet (an arm moving a block
+/// towards a tower whose lower blocks are not in place), as long as an arm is free; that is
+/// what the swap rungs need, but on build_b100_a8_s17 the chains had by expansion 20 sent
+/// seven of the eight arms off with blocks, three of them towards one tower top block first,
+/// and the search then spent 2000 expansions (about 4 ms each) on that plateau before the
+/// list ranked by h_add joined and got it out (`kbc bench --filter build_b100_a8 --seed 17`:
+/// 2053 expansions, 5.5-9 s over runs, makespan 171). Begun again patiently after 200: 373
+/// expansions, 1.8 s, makespan 155. On seeds 1-8 and 12-20 of the ladder no other rung
+/// stalls so early, and their plans are the same; a search whose estimate still improves
+/// after its first 200 expansions (logistics_c6_t6_p3_k40 of `benches/other_domains`, which
+/// stalls after 1805) goes on as it was.
+const PATIENT_STATES: u64 = 200;
+
+/// How many of its starts that cannot end yet a patient chain holds at once: a start that
+/// would be one more is not taken. (On build_b100_a8_s17, begun again after
+/// [`PATIENT_STATES`]: 1, 2 and 3 gave 489, 373 and 311 expansions, makespans 156, 155 and 156.
+/// Patient chains from the start on every rung cost the swap rungs of 50 blocks and more
+/// 700-2300 expansions instead of 16-26, and up to 10 s.)
+const PATIENT_WAITING: usize = 2;
+
 /// How many times a plain lookahead chain that ends in a dead end is followed again without
 /// the end that made it one (found by bisection over its prefixes, [`first_dead_step`]).
 ///
@@ -385,7 +415,8 @@ fn earliest(
 /// start that would hold an arm waiting once no arm is free. `loosen` (meant with
 /// `careful`) then, before giving an arm back, takes the end of a start it took loosely by
 /// whichever clause applies, or else a plan step with all its chosen variables
-/// ([`PlanAction::chosen`]) free.
+/// ([`PlanAction::chosen`]) free. `patient` takes no start that cannot end at once while
+/// [`PATIENT_WAITING`] starts the chain took still cannot.
 #[allow(clippy::too_many_arguments)]
 fn look_ahead(
     task: &mut Task,
@@ -396,6 +427,7 @@ fn look_ahead(
     plan: &[PlanAction],
     careful: bool,
     loosen: bool,
+    patient: bool,
     avoid: &[Applicable],
     deadline: Option<Instant>,
 ) -> Result<Chain, ConditionError> {
@@ -407,6 +439,8 @@ fn look_ahead(
     let mut scratch = Vec::new();
     // Starts taken with loose variables and not yet ended.
     let mut headed: Vec<Headed> = Vec::new();
+    // Patiently: the starts the chain took that could not end at once, until they end.
+    let mut waiting: Vec<ConstId> = Vec::new();
     let gives_back = gives_back_units(task);
     let resource_goals = resource_goals(task);
     // (Each give-back step undoes a step of the plan's, so there are at most as many.)
@@ -466,12 +500,13 @@ fn look_ahead(
                         let values = loose_values(task, loose, action);
                         headed.iter().any(|(_, b, v)| *b == base && *v == values)
                     };
-                    // Carefully, no start that would hold its arm waiting once no arm is free.
-                    if careful && task.schemas[action.schema].snap == Snap::Start {
+                    // Carefully, no start that would hold its arm waiting once no arm is free;
+                    // patiently, none once `PATIENT_WAITING` starts of the chain wait.
+                    if (careful || patient) && task.schemas[action.schema].snap == Snap::Start {
                         let child = successors::apply(task, current, action);
-                        if !any_unit_free(task, &resource_goals, &child)
-                            && idles(task, successors, &child, action, &mut scratch)?
-                        {
+                        let full = (careful && !any_unit_free(task, &resource_goals, &child))
+                            || (patient && waiting.len() >= PATIENT_WAITING);
+                        if full && idles(task, successors, &child, action, &mut scratch)? {
                             continue;
                         }
                     }
@@ -509,6 +544,12 @@ fn look_ahead(
         }
         if let Some(instance) = action.ends {
             headed.retain(|(running, _, _)| *running != instance);
+            waiting.retain(|running| *running != instance);
+        } else if patient && idles(task, successors, &next, &action, &mut scratch)? {
+            let schema = &task.schemas[action.schema];
+            if let Some(instance) = successors::running_instance(schema, &mut task.consts, &action.bindings) {
+                waiting.push(instance);
+            }
         }
         if let Some((i, loose)) = step {
             taken[i] = true;
@@ -723,6 +764,10 @@ pub fn search(
     let mut turn = 0u8;
     // Loosened lookahead chains not taken in a row (see [`LOOSENED_MISSES`]).
     let mut loosened_misses = 0;
+    // Whether the lookahead's chains are patient (see [`PATIENT_STATES`]), and whether the
+    // search is to begin again from the initial state because it now is.
+    let mut patient = false;
+    let mut restart_patient = false;
     loop {
         from_preferred = !from_preferred;
         let entry = match sums.as_mut() {
@@ -843,6 +888,21 @@ pub fn search(
         if sums.is_none() && best.is_none() && stats.expanded - best_h_at >= stalled_states {
             sums = Some(BinaryHeap::new());
             stats.summed_from = Some(stats.expanded);
+        }
+        // A search that followed relaxed plans from the start and has stalled early may have
+        // been led by its chains into states where many arms hold blocks waiting for places
+        // that are far from ready: it begins again, with patient chains.
+        if lookahead
+            && !patient
+            && stats.lookahead_from == 0
+            && best.is_none()
+            && sums.is_none()
+            && best_h_at <= PATIENT_STATES
+            && stats.expanded - best_h_at >= PATIENT_STATES
+        {
+            patient = true;
+            restart_patient = true;
+            stats.patient_from = Some(stats.expanded);
         }
         if let Err(error) = successors.applicable(task, &state, &mut applicable) {
             return Outcome::ended(found, Failure::Condition(error), stats);
@@ -1025,6 +1085,7 @@ pub fn search(
                         &estimate.plan,
                         careful,
                         loosen,
+                        patient,
                         &avoid,
                         budget.deadline,
                     ) {
@@ -1115,10 +1176,15 @@ pub fn search(
                 stats.looked_ahead += 1;
             }
         }
+        if std::mem::take(&mut restart_patient) {
+            (best_h, best_h_at) = (u32::MAX, stats.expanded);
+            restart = true;
+        }
         if std::mem::take(&mut restart) {
             // The first plan is found: search again from the start with its makespan as the
             // bound and starts that would idle their arm ranked last, instead of going on
-            // from open lists ordered for finding any plan.
+            // from open lists ordered for finding any plan. (Or the chains are now patient:
+            // search again from the start with them.)
             let root = nodes.swap_remove(0);
             nodes.clear();
             placed.clear();
@@ -1179,16 +1245,16 @@ mod tests {
         }
     }
 
-    /// Runs the lookahead (`careful` or not, `loosen` or not) from the initial state of
-    /// `rung` (the standard blocks world) and hands it to `check`.
-    fn chain_from_start(rung: Rung, modes: (bool, bool), check: impl FnOnce(Probe<'_, '_>)) {
+    /// Runs the lookahead (`careful` or not, `loosen` or not, `patient` or not) from the
+    /// initial state of `rung` (the standard blocks world) and hands it to `check`.
+    fn chain_from_start(rung: Rung, modes: (bool, bool, bool), check: impl FnOnce(Probe<'_, '_>)) {
         chain_avoiding(rung, modes, &[], check);
     }
 
     /// [`chain_from_start`], the lookahead taking none of the actions `avoid`.
     fn chain_avoiding(
         rung: Rung,
-        (careful, loosen): (bool, bool),
+        (careful, loosen, patient): (bool, bool, bool),
         avoid: &[Applicable],
         check: impl FnOnce(Probe<'_, '_>),
     ) {
@@ -1216,6 +1282,7 @@ mod tests {
             &estimate.plan,
             careful,
             loosen,
+            patient,
             avoid,
             None,
         )
@@ -1231,6 +1298,36 @@ mod tests {
     }
 
     #[test]
+    fn a_patient_chain_holds_few_arms_waiting() {
+        // The most running actions that cannot end (no end of theirs applies) in any state of
+        // the chain: arms held waiting, counted from the states alone.
+        fn most_waiting(probe: &mut Probe<'_, '_>) -> usize {
+            let mut applicable = Vec::new();
+            let mut most = 0;
+            for state in &probe.chain.states {
+                probe.successors.applicable(probe.task, state, &mut applicable).expect("no engine error");
+                let waiting = state.running.iter().filter(|&&r| !applicable.iter().any(|a| a.ends == Some(r))).count();
+                most = most.max(waiting);
+            }
+            most
+        }
+        let rung = Rung { family: Family::Swap, blocks: 20, arms: 4, seed: 1 };
+        let mut plain = 0;
+        chain_from_start(rung, (false, false, false), |mut probe| plain = most_waiting(&mut probe));
+        assert!(plain > PATIENT_WAITING, "{}: the plain chain holds at most {plain} arms waiting", rung.name());
+        chain_from_start(rung, (false, false, true), |mut probe| {
+            assert!(
+                probe.chain.steps.len() >= 10,
+                "{}: a patient chain of {} steps",
+                rung.name(),
+                probe.chain.steps.len()
+            );
+            let patient = most_waiting(&mut probe);
+            assert!(patient <= PATIENT_WAITING, "{}: the patient chain holds {patient} arms waiting", rung.name());
+        });
+    }
+
+    #[test]
     fn the_relaxed_plan_names_every_block_that_must_move() {
         // A block standing on a cell another block's goal needs is moved for that deletion:
         // the relaxation chooses the part of its move that deletes, and the plan had left the
@@ -1238,7 +1335,7 @@ mod tests {
         // after 25 steps, at a cost of 1743 expansions in all; 30 with the move kept).
         for family in [Family::Build, Family::Swap] {
             let rung = Rung { family, blocks: 20, arms: 4, seed: 1 };
-            chain_from_start(rung, (false, false), |probe| {
+            chain_from_start(rung, (false, false, false), |probe| {
                 let misplaced: Vec<ConstId> = probe
                     .task
                     .goal
@@ -1284,12 +1381,12 @@ mod tests {
         // goal is out of reach, it ends better than it started.
         let rung = Rung { family: Family::Reverse, blocks: 30, arms: 6, seed: 1 };
         let mut plain = (0, 0);
-        chain_from_start(rung, (false, false), |mut probe| {
+        chain_from_start(rung, (false, false, false), |mut probe| {
             let steps = probe.chain.steps.len();
             plain = (steps, probe.estimate_after(steps).unwrap_or(u32::MAX));
             assert!(plain.1 >= probe.start_h, "{}: the plain chain ends better ({plain:?})", rung.name());
         });
-        chain_from_start(rung, (true, false), |mut probe| {
+        chain_from_start(rung, (true, false, false), |mut probe| {
             let steps = probe.chain.steps.len();
             assert!(steps > plain.0, "{}: {steps} careful steps against {}", rung.name(), plain.0);
             let gives_back = gives_back_units(probe.task);
@@ -1313,7 +1410,7 @@ mod tests {
         for seed in 1..=3 {
             let rung = Rung { family: Family::Build, blocks: 20, arms: 4, seed };
             let mut killer = None;
-            chain_from_start(rung, (false, false), |mut probe| {
+            chain_from_start(rung, (false, false, false), |mut probe| {
                 let steps = probe.chain.steps.len();
                 if steps >= 2 && probe.estimate_after(steps).is_none() {
                     let dead = first_dead_step(steps, &mut |at| Ok::<_, ()>(probe.estimate_after(at).map(|h| (h, h))))
@@ -1332,7 +1429,7 @@ mod tests {
             });
             let Some((dead, action)) = killer else { continue };
             killed_by_ends += 1;
-            chain_avoiding(rung, (false, false), std::slice::from_ref(&action), |mut probe| {
+            chain_avoiding(rung, (false, false, false), std::slice::from_ref(&action), |mut probe| {
                 assert!(!probe.chain.steps.iter().any(|(a, _, _)| *a == action), "{}: the end was taken", rung.name());
                 let steps = probe.chain.steps.len();
                 let live = probe.estimate_after(steps).is_some()
@@ -1406,13 +1503,13 @@ mod tests {
         // than it started.
         for (blocks, arms) in [(20, 4), (30, 6)] {
             let rung = Rung { family: Family::Swap, blocks, arms, seed: 1 };
-            chain_from_start(rung, (false, false), |mut probe| {
+            chain_from_start(rung, (false, false, false), |mut probe| {
                 let steps = probe.chain.steps.len();
                 assert_eq!(probe.estimate_after(steps), None, "{}: the plain chain ends live", rung.name());
             });
             let mut careful = 0;
-            chain_from_start(rung, (true, false), |probe| careful = probe.chain.steps.len());
-            chain_from_start(rung, (true, true), |mut probe| {
+            chain_from_start(rung, (true, false, false), |probe| careful = probe.chain.steps.len());
+            chain_from_start(rung, (true, true, false), |mut probe| {
                 let steps = probe.chain.steps.len();
                 assert!(steps > careful, "{}: {steps} loosened steps against {careful} careful", rung.name());
                 let end = probe.estimate_after(steps).expect("a live end");
@@ -1438,7 +1535,7 @@ mod tests {
         // keeps an arm from waiting when no other is free, goes on.
         for (blocks, arms, careful) in [(12, 4, false), (20, 4, false), (20, 4, true), (30, 6, true)] {
             let rung = Rung { family: Family::Build, blocks, arms, seed: 1 };
-            chain_from_start(rung, (careful, false), |probe| {
+            chain_from_start(rung, (careful, false, false), |probe| {
                 let (task, successors, chain) = (probe.task, probe.successors, &probe.chain);
                 let mut scratch = Vec::new();
                 let end = chain.states.last().cloned().unwrap_or_else(|| task.init.clone());
@@ -1457,7 +1554,7 @@ mod tests {
         // of its own (there are more free cells than arms here).
         for (blocks, arms) in [(10, 4), (20, 4)] {
             let rung = Rung { family: Family::Reverse, blocks, arms, seed: 1 };
-            chain_from_start(rung, (false, false), |probe| {
+            chain_from_start(rung, (false, false, false), |probe| {
                 let (task, chain) = (probe.task, &probe.chain);
                 // The cells some goal literal names (the last two arguments of `ontable/3`
                 // and `on/4`): moves there are not moves aside.

@@ -243,6 +243,9 @@ pub struct Stats {
     /// When the heuristic search's list ranked by h_add joined ([`Options::stalled_states`]):
     /// after how many expansions.
     pub summed_from: Option<u64>,
+    /// When the heuristic search began again with patient lookahead chains
+    /// (`best_first::PATIENT_STATES`): after how many expansions.
+    pub patient_from: Option<u64>,
     /// States reached by following a relaxed plan (see `best_first`'s lookahead).
     pub looked_ahead: u64,
     /// States not evaluated because no action applies in them (every unit of a resource

@@ -1630,6 +1630,9 @@ pub fn stats_line(stats: &Stats) -> String {
                 0 => "a list ranked by h_add from the start".to_string(),
                 from => format!("a list ranked by h_add from {from} expansions on, without a better estimate before"),
             }))
+            .chain(
+                stats.patient_from.map(|from| format!("begun again after {from} expansions, with patient lookahead")),
+            )
             .collect();
     format!(
         "expanded {} {}, generated {}{}, evaluated {}{}; {:.3} s; states stored {:.1} MB{}",
