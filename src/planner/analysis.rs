@@ -378,9 +378,19 @@ impl Explainer<'_, '_> {
                 }
                 return;
             }
-            if let Some((goal, occurs_check, dif)) = self.failing_on_kb_goal(task, s, &bindings) {
+            if let Some(FailingGoal { literal: goal, negated, occurs_check, dif }) =
+                self.failing_on_kb_goal(task, s, &bindings)
+            {
                 let goal_shown =
                     hir::term_to_string(self.interner, &substitute(&goal.term, &task.consts, &bindings), &action.vars);
+                if negated {
+                    self.notes.push(format!(
+                        "`{action_name}` would add `{shown}`, but its OnKB goal `\\+ {goal_shown}` fails: the KB \
+                         proves `{goal_shown}`"
+                    ));
+                    self.label(goal.span, format!("`{goal_shown}` is provable, so its negation fails"));
+                    return;
+                }
                 self.notes.push(format!(
                     "`{action_name}` would add `{shown}`, but its OnKB goal `{goal_shown}` is not provable from the KB"
                 ));
@@ -431,14 +441,9 @@ impl Explainer<'_, '_> {
     }
 
     /// The first OnKB goal of schema `s` that no solution of the goals before it satisfies,
-    /// under `bindings`, and whether the occurs check failed a unification while it was tried;
-    /// `None` if they all have solutions (or the engine fails).
-    fn failing_on_kb_goal(
-        &mut self,
-        task: &Task,
-        s: usize,
-        bindings: &[Option<ConstId>],
-    ) -> Option<(hir::Literal, bool, bool)> {
+    /// under `bindings` (see [`FailingGoal`]); `None` if they all have solutions (or the
+    /// engine fails).
+    fn failing_on_kb_goal(&mut self, task: &Task, s: usize, bindings: &[Option<ConstId>]) -> Option<FailingGoal> {
         use crate::engine::{Cell, Next};
         let schema = &task.schemas[s];
         for k in 1..=schema.on_kb.len() {
@@ -459,15 +464,37 @@ impl Explainer<'_, '_> {
                 return None;
             }
             if !found {
+                let failing = &schema.on_kb[k - 1];
+                let (negated, called) = match failing {
+                    hir::Goal::Not(inner) if matches!(**inner, hir::Goal::Call(_)) => (true, &**inner),
+                    _ => (false, failing),
+                };
                 let mut first = None;
-                schema.on_kb[k - 1].for_each_call(&mut |l| {
+                called.for_each_call(&mut |l| {
                     first.get_or_insert_with(|| l.clone());
                 });
-                return first.map(|l| (l, self.machine.occurs_check_failed(), self.machine.dif_check_failed()));
+                return first.map(|literal| FailingGoal {
+                    literal,
+                    negated,
+                    occurs_check: self.machine.occurs_check_failed(),
+                    dif: self.machine.dif_check_failed(),
+                });
             }
         }
         None
     }
+}
+
+/// An OnKB goal that fails ([`Explainer::failing_on_kb_goal`]).
+struct FailingGoal {
+    /// The goal's first call: the goal itself, or what a negation `\+ G` negates.
+    literal: hir::Literal,
+    /// Whether the goal is `\+ literal`, which fails because `literal` is provable.
+    negated: bool,
+    /// Whether the occurs check failed a unification while the goal was tried.
+    occurs_check: bool,
+    /// Whether a `dif/2` constraint rejected a binding while the goal was tried.
+    dif: bool,
 }
 
 /// A goal literal unreachable even ignoring deletions, as an E0306 diagnostic with the reason;
