@@ -538,6 +538,7 @@ pub const NOT_PROVIDED: &[(&str, &str)] = &[
         "aggregate_all/3 is provided: count, sum(E), max(E), min(E), max(E, W), min(E, W), bag(T), set(T)",
     ),
     ("tab", "tab/1 is provided, without printing"),
+    ("halt", "kbc plans the KB's problems; it does not run the KB as a program that could stop"),
 ];
 
 /// Why kbc does not provide `name`, if it is one of [`NOT_PROVIDED`].

@@ -173,6 +173,7 @@ codes! {
     GOALS_AFTER_GO = "W0017": "goals of a test after its `go` call, which kbc does not run";
     EMPTY_DURATION = "W0018": "a `duration/3` whose least duration is above its greatest";
     UNPAIRED_SNAP = "W0019": "a `_start` without an `_end`, or the reverse, planned as an instantaneous action";
+    UNDEFINED_IN_RULE_NEVER_RUN = "W0020": "an undefined predicate called in a rule planning never runs";
 }
 
 /// Codes kbc no longer emits. Their pages stay, so `kbc explain` answers for output of older

@@ -29,7 +29,7 @@ use crate::source::Span;
 /// Runs every whole-KB check.
 pub fn check(kb: &Kb, interner: &Interner, diags: &mut Diagnostics) {
     let vocabulary = Vocabulary::new(kb);
-    let mut checker = Checker { kb, interner, diags, vocabulary };
+    let mut checker = Checker { kb, interner, diags, vocabulary, never_run: None };
     checker.durative_pairs();
     checker.duplicate_actions();
     checker.mappings();
@@ -179,6 +179,18 @@ struct Checker<'a> {
     interner: &'a Interner,
     diags: &'a mut Diagnostics,
     vocabulary: Vocabulary,
+    /// While the body of a rule that planning never runs is checked: the rule's predicate
+    /// (its calls of undefined predicates are then W0020, not E0210).
+    never_run: Option<Key>,
+}
+
+/// The arity of a problem's predicate: `test1 :- go(Init, Goal).` is `test1/0`, a `go/4` or
+/// `go/5` test `test3(Actions, Times)`.
+fn problem_arity(problem: &hir::Problem) -> usize {
+    match problem.form {
+        hir::ProblemForm::Go(2) | hir::ProblemForm::InitGoalState => 0,
+        hir::ProblemForm::Go(_) => 2,
+    }
 }
 
 impl Checker<'_> {
@@ -438,25 +450,25 @@ impl Checker<'_> {
     // ---- names ----------------------------------------------------------------------------
 
     /// The rules (indices into `Kb::clauses`) that only run tests, as older KBs write them:
-    /// `testCase(A, T) :- test3(A, T).`, `testTrace :- leash(-all), trace, testCase(_, _).`
-    /// Their bodies call nothing but problems, other such rules, and SWI-Prolog's debugger and
-    /// output predicates, none of which planning uses.
+    /// `testCase(A, T) :- test3(A, T).`, `testTrace :- leash(-all), trace, testCase(_, _).`,
+    /// `testCase(1, T) :- test1, T = ok.`, `main :- test1, halt.` Their bodies call nothing
+    /// but problems, other such rules, SWI-Prolog's debugger, output predicates and `halt`,
+    /// and built-ins that call no goal (`=/2`, `is/2`), none of which planning uses.
     fn test_wrappers(&self) -> BTreeSet<usize> {
-        // Output a wrapper may print around a test, besides the debugger.
-        const OUTPUT: &[(&str, usize)] =
-            &[("write", 1), ("writeln", 1), ("print", 1), ("nl", 0), ("format", 1), ("format", 2), ("time", 1)];
-        let problems: BTreeSet<Key> = self
-            .kb
-            .problems
-            .iter()
-            .map(|p| {
-                let arity = match p.form {
-                    hir::ProblemForm::Go(2) | hir::ProblemForm::InitGoalState => 0,
-                    hir::ProblemForm::Go(_) => 2,
-                };
-                (p.name, arity)
-            })
-            .collect();
+        // Output a wrapper may print around a test, besides the debugger, and SWI-Prolog's
+        // way to stop after it (`main :- test1, halt.`).
+        const OUTPUT: &[(&str, usize)] = &[
+            ("write", 1),
+            ("writeln", 1),
+            ("print", 1),
+            ("nl", 0),
+            ("format", 1),
+            ("format", 2),
+            ("time", 1),
+            ("halt", 0),
+            ("halt", 1),
+        ];
+        let problems: BTreeSet<Key> = self.kb.problems.iter().map(|p| (p.name, problem_arity(p))).collect();
         let mut wrappers: BTreeSet<usize> = BTreeSet::new();
         let mut names: BTreeSet<Key> = problems;
         loop {
@@ -474,6 +486,7 @@ impl Checker<'_> {
                         calls_a_test = true;
                     } else if !builtins::is_debugger(self.name(key.0), key.1)
                         && !OUTPUT.contains(&(self.name(key.0), key.1))
+                        && !builtins::lookup(self.interner, key.0, key.1).is_some_and(|b| b.calls.is_empty())
                     {
                         only_tests = false;
                     }
@@ -539,6 +552,16 @@ impl Checker<'_> {
         }
         let wrappers = self.test_wrappers();
         let planner = self.own_planner();
+        // What planning runs: OnKB goals, `duration/3`, and the goals of tests before `go`.
+        let mut run = kb.predicates_run();
+        let prelude_calls: Vec<Key> = {
+            let mut calls = Vec::new();
+            for goal in kb.problems.iter().flat_map(|p| p.prelude.iter().flat_map(|p| &p.goals)) {
+                goal.for_each_called(&mut |l, extra| calls.push((l.name(), l.arity() + extra)));
+            }
+            calls
+        };
+        run.extend(kb.predicates_reached(prelude_calls));
         if let Some(first) = kb.clauses.iter().find(|c| planner.contains(&(c.head.name(), c.head.arity()))) {
             let mut shown: Vec<String> = planner.iter().map(|&key| format!("`{}`", self.indicator(key))).collect();
             let more = shown.len().saturating_sub(6);
@@ -565,15 +588,19 @@ impl Checker<'_> {
                     Diagnostic::note(format!("`{shown}` is a test wrapper: kbc ignores it"))
                         .primary(clause.head.span, "runs problems or the debugger")
                         .with_note(
-                            "its body only calls problems (`go/2`, `go/4`, `go/5` tests), other wrappers and \
-                             SWI-Prolog's debugger or output predicates; kbc plans the problems themselves",
+                            "its body only calls problems (`go/2`, `go/4`, `go/5` tests), other wrappers, \
+                             SWI-Prolog's debugger, output predicates or `halt`, and built-ins that call no \
+                             goal; kbc plans the problems themselves",
                         )
                         .with_help("choose a problem with `--problem NAME`"),
                 );
                 continue;
             }
             if let Some(body) = &clause.body {
+                let key = (clause.head.name(), clause.head.arity());
+                self.never_run = (!run.contains(&key)).then_some(key);
                 self.kb_goal(body);
+                self.never_run = None;
             }
         }
         for problem in &kb.problems {
@@ -823,8 +850,18 @@ impl Checker<'_> {
         let builtin_keys: BTreeSet<Key> =
             [(sym::MEMBER, 2), (sym::TRUE, 0), (sym::FAIL, 0), (sym::NOT, 1)].into_iter().collect();
         let arities = self.other_arities(key, &kb_names.union(&builtin_keys).copied().collect());
-        if !arities.is_empty() {
+        if !arities.is_empty() && self.never_run.is_none() {
             self.wrong_arity(literal, key, &arities, "the KB defines", None);
+            return;
+        }
+        if let Some(rule) = self.never_run {
+            // (A problem, `test1 :- go(...)`, is a predicate to Prolog too: a rule that
+            // calls one runs the test.)
+            let problems: BTreeSet<Key> = self.kb.problems.iter().map(|p| (p.name, problem_arity(p))).collect();
+            if !problems.contains(&key) {
+                let names = kb_names.union(&builtin_keys).chain(&problems).copied().collect();
+                self.never_run_call(literal, key, rule, &arities, names);
+            }
             return;
         }
         let indicator = self.indicator(key);
@@ -855,6 +892,37 @@ impl Checker<'_> {
         } else {
             kb_names.extend(builtin_keys);
             diagnostic = self.with_suggestion(diagnostic, literal, key, &kb_names);
+        }
+        self.diags.push(diagnostic);
+    }
+
+    /// A call of `key`, which nothing defines (with this arity), in a rule of `rule` that
+    /// planning never runs: SWI-Prolog loads it and raises an existence error only if the
+    /// rule is called, so it is warning W0020.
+    fn never_run_call(&mut self, literal: &Literal, key: Key, rule: Key, arities: &[usize], names: BTreeSet<Key>) {
+        let indicator = self.indicator(key);
+        let name = self.name(key.0).to_string();
+        let mut diagnostic = Diagnostic::warning(
+            codes::UNDEFINED_IN_RULE_NEVER_RUN,
+            format!("unknown predicate `{indicator}`, in a rule planning never runs"),
+        )
+        .primary(literal.name_span, "no clause defines it and it is not a built-in")
+        .with_note(format!(
+            "nothing kbc runs (OnKB goals, `duration/3`, the goals of a test before `go`) calls `{}`, so kbc \
+             plans without it; SWI-Prolog loads it too, and raises an existence error only if it is called",
+            self.indicator(rule)
+        ));
+        if !arities.is_empty() {
+            let list = arities.iter().map(|a| format!("`{name}/{a}`")).collect::<Vec<_>>();
+            let unit = if arities == [1] { "argument" } else { "arguments" };
+            diagnostic = diagnostic
+                .with_note(format!("the KB defines {}", join_and(&list)))
+                .with_help(format!("write `{name}` with {} {unit}", join_or(arities)));
+        } else if let Some(why) = builtins::not_provided(&name) {
+            diagnostic =
+                diagnostic.with_note(format!("`{name}` is an SWI-Prolog predicate that kbc does not provide: {why}"));
+        } else {
+            diagnostic = self.with_suggestion(diagnostic, literal, key, &names);
         }
         self.diags.push(diagnostic);
     }
