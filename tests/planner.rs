@@ -1005,6 +1005,42 @@ fn without_grounding_the_lifted_heuristic_still_plans() {
     }
 }
 
+#[test]
+fn grounding_gives_up_early_where_the_relaxation_builds_new_terms() {
+    // Stacks kept as lists in the state: ignoring deletions, every push makes a longer list,
+    // so the exploration makes new values without end and its instantiations grow with their
+    // square. Grounding stops once it has made `GROUND_NEW_CONSTANTS` (or as many as the task
+    // has) and evaluation stays lifted; the search still plans, validly.
+    let source = "stack_name(s1). stack_name(s2). stack_name(s3).
+action(move_top(From, To, X),
+    [stack(From, [X|Rest]), stack(To, Others)],
+    [],
+    [],
+    [stack_name(From), stack_name(To), From \\== To],
+    [del(stack(From, [X|Rest])), del(stack(To, Others)), add(stack(From, Rest)), add(stack(To, [X|Others]))]).
+test1 :- go([stack(s1, [a, b, c]), stack(s2, []), stack(s3, [])], [stack(s3, [a, b, c])]).
+"
+    .to_string();
+    let frontend = from_text("lists.pl", source);
+    let p = problem(&frontend, "test1");
+    let mut task = passes::task::build(&frontend.kb, p);
+    let program = planner::program_for(&frontend.kb, &frontend.interner, p);
+    let mut successors = Successors::new(&task, Machine::new(&program, 1_000_000));
+    let mut relaxation = Relaxation::new(&task);
+    let before = task.consts.len();
+    let (machine, cache) = successors.parts();
+    let grounded = relaxation.ground(&mut task, machine, cache, 1_000_000, true).expect("no engine error");
+    assert!(!grounded, "a relaxation that builds new lists without end was grounded");
+    let made = task.consts.len() - before;
+    let most = kbc::planner::relaxed::GROUND_NEW_CONSTANTS.max(before);
+    assert!(made <= most + 64, "grounding made {made} new values before giving up (the limit is {most})");
+    let mut task = passes::task::build(&frontend.kb, p);
+    let options = Options { search: SearchKind::Heuristic, budget: budget(60), ..Options::default() };
+    let outcome = planner::search(&frontend.kb, &frontend.interner, &mut task, &options, &mut Silent);
+    let plan = outcome.result.unwrap_or_else(|failure| panic!("no plan: {failure:?}"));
+    assert_valid(&frontend, p, &plan);
+}
+
 /// A constant's text.
 fn const_text(frontend: &Frontend, task: &kbc::ir::task::Task, id: kbc::ir::task::ConstId) -> String {
     let no_vars = kbc::ir::hir::VarTable::default();

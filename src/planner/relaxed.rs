@@ -395,6 +395,16 @@ const CHECK_EVERY: u32 = 4096;
 /// 3.2 s and 870 MB.
 pub const MAX_NEW_CONSTANTS: usize = 250_000;
 
+/// The most values the exploration that grounds the relaxation ([`Relaxation::ground`]) may
+/// add to the task's, or as many as the task has if that is more: beyond, evaluation stays
+/// lifted. A bounded task makes few (see [`MAX_NEW_CONSTANTS`]); one that builds terms, such
+/// as stacks kept as lists in the state (`stack(S, [X|Rest])`), makes new ones at every step
+/// of the exploration, and its instantiations grow with the square of them: on a 3-block
+/// stack-of-lists KB, grounding until a million instantiations took the set-up 1.2-2.4 s and
+/// 293 MB (twice: the second search grounds again), against 40 ms and 41 MB with this limit
+/// (`kbc plan -v`, release build).
+pub const GROUND_NEW_CONSTANTS: usize = 256;
+
 /// Why an exploration stopped without an answer.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Stop {
@@ -915,7 +925,12 @@ impl Relaxation {
             overflowed: false,
         });
         let init = task.init.clone();
+        // (Grounding stops early where the exploration makes many new values, see
+        // [`GROUND_NEW_CONSTANTS`].)
+        let limit_constants = self.limits.max_new_constants;
+        self.limits.max_new_constants = limit_constants.min(GROUND_NEW_CONSTANTS.max(task.consts.len()));
         let explored = self.explore(task, &init, machine, cache, false, false);
+        self.limits.max_new_constants = limit_constants;
         let recorder = self.recorder.take().expect("set above");
         // An exploration without end cannot be grounded; evaluated lifted, a state's stops at
         // its goals, if it reaches them.
