@@ -562,6 +562,25 @@ impl Checker<'_> {
             calls
         };
         run.extend(kb.predicates_reached(prelude_calls));
+        // A goal known only at run time (`call(G)`) may call any rule: then none is said to
+        // be never run.
+        let mut dynamic = false;
+        let run_goals = kb.actions.iter().flat_map(|a| &a.on_kb).chain(
+            kb.clauses
+                .iter()
+                .filter(|c| run.contains(&(c.head.name(), c.head.arity())))
+                .filter_map(|c| c.body.as_deref()),
+        );
+        for goal in run_goals.chain(kb.problems.iter().flat_map(|p| p.prelude.iter().flat_map(|p| &p.goals))) {
+            goal.for_each_called(&mut |literal, extra| {
+                let Some(builtin) = builtins::lookup(self.interner, literal.name(), literal.arity() + extra) else {
+                    return;
+                };
+                dynamic |= extra == 0
+                    && builtin.imp != builtins::Imp::Engine
+                    && builtin.calls.iter().any(|c| matches!(literal.term.args().get(c.arg), Some(hir::Term::Var(_))));
+            });
+        }
         if let Some(first) = kb.clauses.iter().find(|c| planner.contains(&(c.head.name(), c.head.arity()))) {
             let mut shown: Vec<String> = planner.iter().map(|&key| format!("`{}`", self.indicator(key))).collect();
             let more = shown.len().saturating_sub(6);
@@ -598,7 +617,7 @@ impl Checker<'_> {
             }
             if let Some(body) = &clause.body {
                 let key = (clause.head.name(), clause.head.arity());
-                self.never_run = (!run.contains(&key)).then_some(key);
+                self.never_run = (!dynamic && !run.contains(&key)).then_some(key);
                 self.kb_goal(body);
                 self.never_run = None;
             }
