@@ -487,6 +487,20 @@ pub const DEBUGGER: &[(&str, usize)] = &[
     ("visible", 1),
 ];
 
+/// True if `literal`, called with `extra` more arguments, is a built-in (other than the
+/// engine's control constructs) one of whose goal arguments is a variable: a goal known only
+/// at run time, which may call any predicate (`call(G)`, `findall(X, G, L)`).
+pub fn calls_run_time_goal(interner: &Interner, literal: &crate::ir::hir::Literal, extra: usize) -> bool {
+    extra == 0
+        && lookup(interner, literal.name(), literal.arity()).is_some_and(|builtin| {
+            builtin.imp != Imp::Engine
+                && builtin
+                    .calls
+                    .iter()
+                    .any(|c| matches!(literal.term.args().get(c.arg), Some(crate::ir::hir::Term::Var(_))))
+        })
+}
+
 /// True if `name/arity` is one of the [`DEBUGGER`] predicates.
 pub fn is_debugger(name: &str, arity: usize) -> bool {
     DEBUGGER.contains(&(name, arity))

@@ -184,15 +184,6 @@ struct Checker<'a> {
     never_run: Option<Key>,
 }
 
-/// The arity of a problem's predicate: `test1 :- go(Init, Goal).` is `test1/0`, a `go/4` or
-/// `go/5` test `test3(Actions, Times)`.
-fn problem_arity(problem: &hir::Problem) -> usize {
-    match problem.form {
-        hir::ProblemForm::Go(2) | hir::ProblemForm::InitGoalState => 0,
-        hir::ProblemForm::Go(_) => 2,
-    }
-}
-
 impl Checker<'_> {
     fn name(&self, s: Symbol) -> &str {
         self.interner.resolve(s)
@@ -216,6 +207,16 @@ impl Checker<'_> {
         let any: Vec<&str> = candidates.iter().map(|c| self.name(c.0)).collect();
         let found = best_match(name, any.iter().copied())?;
         candidates.iter().find(|c| self.name(c.0) == found).copied()
+    }
+
+    /// The problems' predicates: `test1 :- go(Init, Goal).` is `test1/0`, a `go/4` or `go/5`
+    /// test `test3(Actions, Times)` is `test3/2`.
+    fn problem_keys(&self) -> BTreeSet<Key> {
+        let arity = |problem: &hir::Problem| match problem.form {
+            hir::ProblemForm::Go(2) | hir::ProblemForm::InitGoalState => 0,
+            hir::ProblemForm::Go(_) => 2,
+        };
+        self.kb.problems.iter().map(|p| (p.name, arity(p))).collect()
     }
 
     fn other_arities(&self, key: Key, candidates: &BTreeSet<Key>) -> Vec<usize> {
@@ -468,7 +469,7 @@ impl Checker<'_> {
             ("halt", 0),
             ("halt", 1),
         ];
-        let problems: BTreeSet<Key> = self.kb.problems.iter().map(|p| (p.name, problem_arity(p))).collect();
+        let problems = self.problem_keys();
         let mut wrappers: BTreeSet<usize> = BTreeSet::new();
         let mut names: BTreeSet<Key> = problems;
         loop {
@@ -554,13 +555,11 @@ impl Checker<'_> {
         let planner = self.own_planner();
         // What planning runs: OnKB goals, `duration/3`, and the goals of tests before `go`.
         let mut run = kb.predicates_run();
-        let prelude_calls: Vec<Key> = {
-            let mut calls = Vec::new();
-            for goal in kb.problems.iter().flat_map(|p| p.prelude.iter().flat_map(|p| &p.goals)) {
-                goal.for_each_called(&mut |l, extra| calls.push((l.name(), l.arity() + extra)));
-            }
-            calls
-        };
+        let preludes = || kb.problems.iter().flat_map(|p| p.prelude.iter().flat_map(|p| &p.goals));
+        let mut prelude_calls: Vec<Key> = Vec::new();
+        for goal in preludes() {
+            goal.for_each_called(&mut |l, extra| prelude_calls.push((l.name(), l.arity() + extra)));
+        }
         run.extend(kb.predicates_reached(prelude_calls));
         // A goal known only at run time (`call(G)`) may call any rule: then none is said to
         // be never run.
@@ -571,14 +570,9 @@ impl Checker<'_> {
                 .filter(|c| run.contains(&(c.head.name(), c.head.arity())))
                 .filter_map(|c| c.body.as_deref()),
         );
-        for goal in run_goals.chain(kb.problems.iter().flat_map(|p| p.prelude.iter().flat_map(|p| &p.goals))) {
+        for goal in run_goals.chain(preludes()) {
             goal.for_each_called(&mut |literal, extra| {
-                let Some(builtin) = builtins::lookup(self.interner, literal.name(), literal.arity() + extra) else {
-                    return;
-                };
-                dynamic |= extra == 0
-                    && builtin.imp != builtins::Imp::Engine
-                    && builtin.calls.iter().any(|c| matches!(literal.term.args().get(c.arg), Some(hir::Term::Var(_))));
+                dynamic |= builtins::calls_run_time_goal(self.interner, literal, extra);
             });
         }
         if let Some(first) = kb.clauses.iter().find(|c| planner.contains(&(c.head.name(), c.head.arity()))) {
@@ -876,7 +870,7 @@ impl Checker<'_> {
         if let Some(rule) = self.never_run {
             // (A problem, `test1 :- go(...)`, is a predicate to Prolog too: a rule that
             // calls one runs the test.)
-            let problems: BTreeSet<Key> = self.kb.problems.iter().map(|p| (p.name, problem_arity(p))).collect();
+            let problems = self.problem_keys();
             if !problems.contains(&key) {
                 let names = kb_names.union(&builtin_keys).chain(&problems).copied().collect();
                 self.never_run_call(literal, key, rule, &arities, names);

@@ -148,11 +148,7 @@ fn reads(goal: &Goal, interner: &crate::intern::Interner, dynamic_counts: bool, 
         let Some(builtin) = crate::builtins::lookup(interner, literal.name(), literal.arity() + extra) else { return };
         *order |= builtin.reads == crate::builtins::Reads::Order;
         *names |= builtin.reads == crate::builtins::Reads::Names;
-        let dynamic = dynamic_counts
-            && extra == 0
-            && builtin.imp != crate::builtins::Imp::Engine
-            && builtin.calls.iter().any(|c| matches!(literal.term.args().get(c.arg), Some(Term::Var(_))));
-        *names |= dynamic;
+        *names |= dynamic_counts && crate::builtins::calls_run_time_goal(interner, literal, extra);
     });
 }
 
